@@ -1,0 +1,41 @@
+#include "cli/cli.h"
+
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/arguments.h"
+#include "cli/model_commands.h"
+#include "physics/errors.h"
+
+namespace softwrist::cli {
+
+int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{"softwrist: simulation testbed for a soft wrist exosuit driven by fabric pneumatic artificial "
+               "muscles (fPAMs)",
+               "softwrist"};
+  app.option_defaults()->always_capture_default();
+  app.require_subcommand(1);
+  app.set_version_flag("--version", SOFTWRIST_VERSION);
+  add_model_commands(app, out);
+
+  std::vector<const char*> argv = {"softwrist"};
+  for (const auto& arg : args) argv.push_back(arg.c_str());
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e, out, err);
+  } catch (const UsageError& e) {
+    err << "error: " << e.what() << '\n';
+    return 2;
+  } catch (const physics::InvalidParameter& e) {
+    err << "error: invalid parameter: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    err << "error: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace softwrist::cli

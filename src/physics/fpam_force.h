@@ -1,0 +1,36 @@
+#pragma once
+// The fPAM force law: Eqn. force (Naclerio & Hawkes' fPAM model: Tondu's ideal McKibben term plus a linear
+// fabric-elasticity term) with the fiber angle from the maximum contraction (Eqn. fiber_orientation).
+//
+// Reading of the printed Eqn. force: its pressure term is printed as
+//     pi P (1/sin^2(a0) - 3 (eps-1)^2 / tan^2(a0)) r0^2,
+// the negative of the McKibben model it cites (Tondu 2012: F = pi r0^2 P (3 (1-eps)^2 / tan^2 a0 - 1/sin^2 a0)).
+// Taken literally it pushes at eps = 0 (1 - 3 cos^2 a0 < 0 for a0 < 54.7 deg) and pushes harder as the muscle
+// contracts, the opposite of the paper's tensile tests (Fig. TensileTest: force falls from its maximum at
+// eps = 0 to zero at eps_max). We use Tondu's sign: an fPAM pulls, and its pull falls to zero at eps_max.
+// Eqn. fiber_orientation (F = 0 at eps_max) is the same under either sign, so it is used as printed.
+
+#include "physics/fpam_parameters.h"
+
+namespace softwrist::physics {
+
+// Eqn. force: eps = (L0 - L) / L0, the contraction relative to the fully stretched length L0.
+double contraction_ratio(double length, double rest_length);
+
+// Eqn. fiber_orientation: the fully stretched fiber angle alpha_0 [rad] that puts the pressure force's zero
+// at eps_max: alpha_0 = -asin(sqrt(eps_max^2 - 2 eps_max + 2/3) / (eps_max - 1)), in (0, pi/2).
+double fiber_angle(double max_contraction);
+
+// Pressure-dependent term of Eqn. force (Tondu's sign, see above); negative beyond eps_max.
+double pressure_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients);
+
+// Pressure-independent term of Eqn. force: 2 pi E t (epsilon_0 - eps) r0 below epsilon_0, zero above it
+// (Section fPAM force modeling: "We assign zero elastic force for contraction ratios larger than epsilon_0").
+double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric);
+
+// The fPAM's pull [N]: the sum of both terms, never negative (fabric cannot push).
+double fpam_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients,
+                  const FabricProperties& fabric);
+double fpam_force(const FpamParameters& fpam, double pressure, double contraction_ratio);
+
+}  // namespace softwrist::physics

@@ -1,0 +1,40 @@
+#include "physics/muscle_torque.h"
+
+#include "physics/errors.h"
+#include "physics/fpam_force.h"
+
+namespace softwrist::physics {
+
+void validate(const Muscle& muscle) {
+  validate(muscle.placement, muscle.wrist_radius);
+  require_positive("rest_length L0 [m]", muscle.rest_length);
+  if (muscle.stretch_mode != StretchMode::kNone) validate(muscle.mount_stiffness);
+}
+
+MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure) {
+  validate(muscle);
+  const FpamCoefficients coefficients = muscle.fpam.at_pressure(pressure);
+  const auto force_at_length = [&](double length) {
+    return fpam_force(pressure, contraction_ratio(length, muscle.rest_length), coefficients, muscle.fpam.fabric());
+  };
+  const MusclePath path = muscle_path(muscle.placement, muscle.wrist_radius, joint_angle);
+  const StretchedForce stretched =
+      solve_mount_stretch(force_at_length, path.length, muscle.mount_stiffness, muscle.stretch_mode);
+
+  MuscleState state;
+  state.regime = path.regime;
+  state.path_length = path.length;
+  state.mount_stretch = stretched.mount_stretch;
+  state.effective_length = path.length > stretched.mount_stretch ? path.length - stretched.mount_stretch : 0.0;
+  state.contraction_ratio = contraction_ratio(state.effective_length, muscle.rest_length);
+  state.force = stretched.force;
+  state.moment_arm = path.moment_arm;
+  state.torque = stretched.force * path.moment_arm;
+  return state;
+}
+
+double rest_length_for_range(const Placement& placement, double wrist_radius, double max_stretch_angle) {
+  return muscle_path(placement, wrist_radius, max_stretch_angle).length;
+}
+
+}  // namespace softwrist::physics

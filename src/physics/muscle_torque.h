@@ -1,0 +1,42 @@
+#pragma once
+// One fPAM on the wrist: its description (Muscle) and the torque it applies at a joint angle and pressure
+// (MuscleState), combining the force law (fpam_force.h), the path geometry (torque_geometry.h) and the mounting-
+// point stretching (mount_stretch.h).
+
+#include "physics/fpam_parameters.h"
+#include "physics/mount_stretch.h"
+#include "physics/torque_geometry.h"
+
+namespace softwrist::physics {
+
+// Immutable description of one muscle of the exosuit.
+struct Muscle {
+  Placement placement;
+  double rest_length = 0.0;   // L0 [m], fully stretched length of the deflated fPAM
+  double wrist_radius = 0.0;  // r_w [m]
+  FpamParameters fpam;
+  StretchMode stretch_mode = StretchMode::kNone;
+  MountStiffness mount_stiffness;  // used unless stretch_mode is kNone
+};
+void validate(const Muscle& muscle);
+
+struct MuscleState {
+  Regime regime = Regime::kStraight;
+  double path_length = 0.0;        // mount-to-mount length of the unstretched placement [m]
+  double effective_length = 0.0;   // path_length minus the mounts' stretch [m]
+  double contraction_ratio = 0.0;  // at the effective length
+  double mount_stretch = 0.0;      // dx_1 + dx_2 [m]
+  double force = 0.0;              // [N]
+  double moment_arm = 0.0;         // [m]
+  double torque = 0.0;             // [N m], positive in the muscle's own direction
+};
+
+// The muscle at `joint_angle` [rad] (positive in its own direction, see torque_geometry.h) and `pressure` [Pa].
+MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure);
+
+// Section Parameter optimization: "the initial, fully stretched length of the fPAM should be the shortest length
+// that still allows the user to reach the full range of motion in the direction that stretches the muscle",
+// computed with Eqn. length at that angle (for example -65.4 deg for the paper's flexor).
+double rest_length_for_range(const Placement& placement, double wrist_radius, double max_stretch_angle);
+
+}  // namespace softwrist::physics

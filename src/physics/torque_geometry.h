@@ -1,0 +1,58 @@
+#pragma once
+// The 2D geometry of one fPAM across the wrist (Section Exosuit torque model, Fig. GeometricModel): its path
+// length and its moment arm about the joint centre O, in the straight-line regime (Eqn. tau1) or wrapped around a
+// wrist circle of radius r_w (Eqns. parameters2, length, tau2).
+//
+// Frame (as in the paper): O at the origin, z along the joint axis, x along the forearm towards the hand, y towards
+// the muscle's side. The forearm mount is P1 = (-d1, w1); the hand mount is P2 = Rot(theta) (d2, w2). A positive
+// joint angle turns the hand towards the muscle's side, i.e. in the direction this muscle pulls it (flexion for the
+// flexor). The torque of a muscle pulling with force F is F * moment_arm, positive in that direction.
+//
+// Readings of the printed equations, checked in tests/physics/torque_geometry_test.cc:
+//  - Regime. Eqn. straight_to_wrapping counts where the infinite line through P1 and P2 meets the wrist circle
+//    (its printed D = 2ab^2 - ... is (2ab)^2 - 4(1+a^2)(b^2-r_w^2), the quadratic's discriminant). That line can
+//    meet the circle beyond a mount point, on the far side of O, or be vertical (a undefined), so D alone does not
+//    say whether the muscle itself touches the wrist. We use the sign of the wrap angle phi of Eqn. parameters2
+//    instead: phi > 0 exactly when the tangent point Q2 lies past Q1 along the muscle's side of the circle, i.e.
+//    when the segment P1P2 would cut into the wrist; at phi = 0 the segment is tangent (D = 0), the paper's
+//    transition.
+//  - Eqn. tau2 prints cos(phi - psi) and sin(phi - psi). With psi measured from y towards x (as Eqn. parameters2
+//    defines it) the last wrapped point is Q2 = r_w (sin(psi + phi), cos(psi + phi)), so we use psi + phi. Then
+//    the force line P2Q2 is tangent to the wrist and the wrapped moment arm is exactly r_w (the paper: "In this
+//    range, the moment arm is constant"), and torque and length are continuous at the transition. The printed
+//    phi - psi turns Q2 by -2 psi off the tangent point: its moment arm is still constant but a little below r_w
+//    (0.44 % on the torque rig, where psi = 2.75 deg), so the torque would step by that much at the transition.
+
+namespace softwrist::physics {
+
+// Mounting-point placement of one fPAM (Fig. GeometricModel; Tables optimized_parameters, RoM), in metres.
+struct Placement {
+  double d1 = 0.0;  // forearm mount P1: distance from O along the forearm's centre line
+  double w1 = 0.0;  // forearm mount P1: distance from the forearm's centre line, on the muscle's side
+  double d2 = 0.0;  // hand mount P2: distance from O along the hand's centre line
+  double w2 = 0.0;  // hand mount P2: distance from the hand's centre line, on the muscle's side
+};
+
+enum class Regime { kStraight, kWrapping };
+const char* to_string(Regime regime);
+
+struct MusclePath {
+  Regime regime = Regime::kStraight;
+  double length = 0.0;         // L (Eqn. tau1) or L_w (Eqn. length) [m]
+  double moment_arm = 0.0;     // torque per newton of muscle force about O [m]
+  double wrap_angle = 0.0;     // phi of Eqn. parameters2 [rad]; > 0 exactly when the muscle wraps
+  double tangent_angle = 0.0;  // psi of Eqn. parameters2 [rad]: angle from y to O->Q1, towards x
+};
+
+// Throws InvalidParameter unless the placement is finite, d1, d2 > 0, w1, w2 >= 0, r_w > 0 and both mounts lie
+// outside the wrist circle (R1, R2 > r_w: the tangents of Eqn. parameters2 exist).
+void validate(const Placement& placement, double wrist_radius);
+
+// The muscle's path at a joint angle [rad], |joint_angle| <= pi.
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle);
+
+// The joint angle [rad] at which the muscle stops wrapping: Eqn. parameters2 solved for phi = 0,
+// theta* = pi/2 - (psi + acos(r_w/R2) + asin(w2/R2)). Below it the muscle wraps, above it it runs straight.
+double wrap_transition_angle(const Placement& placement, double wrist_radius);
+
+}  // namespace softwrist::physics

@@ -1,0 +1,13 @@
+# Installs the build tree to a scratch prefix and builds and runs tests/package against it.
+file(REMOVE_RECURSE "${SCRATCH}")
+function(step)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  message(STATUS "${out}")
+endfunction()
+step(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${SCRATCH}/prefix")
+step(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/package" -B "${SCRATCH}/build" -DCMAKE_PREFIX_PATH=${SCRATCH}/prefix)
+step(${CMAKE_COMMAND} --build "${SCRATCH}/build")
+step("${SCRATCH}/build/consumer")

@@ -1,0 +1,70 @@
+#include "physics/fpam_parameters.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "physics/errors.h"
+#include "physics/paper_parameters.h"
+
+namespace softwrist::physics {
+namespace {
+
+// Table tensile_testing_parameters: the rows come back exactly at their pressures.
+TEST(FpamParameters, TensileTableRowsAtTheirPressures) {
+  const auto fpam = paper::tensile_fpam();
+  const double radius_cm[] = {1.23, 1.27, 1.22, 1.19, 1.26};
+  const double eps_max[] = {0.153, 0.303, 0.296, 0.301, 0.277};
+  for (std::size_t i = 0; i < paper::kMeasurementPressures.size(); ++i) {
+    const auto c = fpam.at_pressure(paper::kMeasurementPressures[i]);
+    EXPECT_DOUBLE_EQ(c.radius, radius_cm[i] / 100.0) << "row " << i;
+    EXPECT_DOUBLE_EQ(c.max_contraction, eps_max[i]) << "row " << i;
+  }
+}
+
+TEST(FpamParameters, InterpolatesLinearlyBetweenRowsAndHoldsOutside) {
+  const auto fpam = paper::tensile_fpam();
+  const auto mid = fpam.at_pressure(51e3);  // halfway between the 34 and 68 kPa rows
+  EXPECT_NEAR(mid.radius, 0.5 * (0.0127 + 0.0122), 1e-15);
+  EXPECT_NEAR(mid.max_contraction, 0.5 * (0.303 + 0.296), 1e-15);
+  const auto above = fpam.at_pressure(312e3);
+  EXPECT_DOUBLE_EQ(above.max_contraction, 0.277);
+}
+
+TEST(FpamParameters, ConstantIsTheSameAtEveryPressure) {
+  const auto fpam = paper::design_fpam();
+  EXPECT_TRUE(fpam.is_constant());
+  for (double p : {0.0, 50e3, 137e3, 312e3}) {
+    EXPECT_DOUBLE_EQ(fpam.at_pressure(p).radius, 0.0123);
+    EXPECT_DOUBLE_EQ(fpam.at_pressure(p).max_contraction, 0.28);
+  }
+}
+
+TEST(FpamParameters, RejectsInvalidParametersNamingThem) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (double eps : {0.0, -0.1, 1.0, 1.5, nan}) {
+    try {
+      FpamParameters::Constant(0.01, eps);
+      FAIL() << "accepted eps_max " << eps;
+    } catch (const InvalidParameter& e) {
+      EXPECT_NE(std::string(e.what()).find("max_contraction eps_max"), std::string::npos) << e.what();
+    }
+  }
+  // Eqn. fiber_orientation has no real fiber angle above 1 - 1/sqrt(3).
+  EXPECT_THROW(FpamParameters::Constant(0.01, 0.43), InvalidParameter);
+  EXPECT_NO_THROW(FpamParameters::Constant(0.01, 0.42));
+  EXPECT_THROW(FpamParameters::Constant(-0.01, 0.28), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Constant(nan, 0.28), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Table({}), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Table({{10e3, 0.01, 0.2}, {10e3, 0.01, 0.2}}), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Table({{-1.0, 0.01, 0.2}}), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Constant(0.01, 0.28, FabricProperties{.elastic_modulus = -1.0}), InvalidParameter);
+  EXPECT_THROW(FpamParameters::Constant(0.01, 0.28, FabricProperties{.elastic_onset_contraction = 1.0}),
+               InvalidParameter);
+  EXPECT_THROW(paper::design_fpam().at_pressure(-1.0), InvalidParameter);
+  EXPECT_THROW(paper::design_fpam().at_pressure(nan), InvalidParameter);
+}
+
+}  // namespace
+}  // namespace softwrist::physics
