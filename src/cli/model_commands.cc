@@ -172,6 +172,8 @@ struct RomOptions {
 struct RomRow {
   const paper::RomEntry* entry;
   std::optional<double> limit_deg;
+  // The eps_max that would put this muscle's limit at the paper's modeled limit: 1 - L(paper limit) / L0.
+  double eps_max_matching_paper;
 };
 
 std::vector<RomRow> modeled_limits(const RomOptions& options) {
@@ -191,39 +193,45 @@ std::vector<RomRow> modeled_limits(const RomOptions& options) {
     apply_stretch(options.stretch, muscle);
     physics::validate(muscle);
     const auto limit = physics::joint_limit(muscle, pressure, std::numbers::pi / 2.0);
-    rows.push_back({&entry, limit ? std::optional<double>(rad_to_deg(*limit)) : std::nullopt});
+    const double paper_length =
+        physics::muscle_path(muscle.placement, muscle.wrist_radius, deg_to_rad(entry.paper_modeled_limit_deg())).length;
+    rows.push_back({&entry, limit ? std::optional<double>(rad_to_deg(*limit)) : std::nullopt,
+                    1.0 - paper_length / muscle.rest_length});
   }
   return rows;
 }
 
 json rom_json(const std::vector<RomRow>& rows, double pressure_kpa) {
   json result = {{"pressure_kpa", pressure_kpa}};
-  json paper_modeled, paper_exosuit, biological;
+  json paper_modeled, paper_exosuit, biological, matching;
   for (const auto& row : rows) {
     const std::string direction(row.entry->direction);
     result[direction + "_deg"] = row.limit_deg ? json(*row.limit_deg) : json(nullptr);
     paper_modeled[direction + "_deg"] = row.entry->paper_modeled_limit_deg();
     paper_exosuit[direction + "_deg"] = row.entry->exosuit_deg;
     biological[direction + "_deg"] = row.entry->biological_deg;
+    matching[direction] = row.eps_max_matching_paper;
   }
   result["paper_modeled_deg"] = paper_modeled;
   result["paper_measured_exosuit_deg"] = paper_exosuit;
   result["paper_biological_deg"] = biological;
+  result["eps_max_matching_paper"] = matching;
   return result;
 }
 
 std::string rom_markdown(const std::vector<RomRow>& rows) {
   std::string text =
       "| direction | modeled limit (softwrist) | paper's modeled limit (measured + error) | difference | "
-      "measured exosuit (paper) | biological (paper) |\n|---|---|---|---|---|---|\n";
+      "eps_max matching the paper's limit | measured exosuit (paper) | biological (paper) |\n"
+      "|---|---|---|---|---|---|---|\n";
   for (const auto& row : rows) {
     const auto& e = *row.entry;
     const std::string mine = row.limit_deg ? fmt::format("{:.1f} deg", *row.limit_deg) : "beyond 90 deg";
     const std::string diff =
         row.limit_deg ? fmt::format("{:+.1f} deg", *row.limit_deg - e.paper_modeled_limit_deg()) : "-";
-    text += fmt::format("| {} | {} | {:.1f} deg | {} | {:.1f} (STD {:.1f}) deg | {:.1f} (STD {:.1f}) deg |\n",
-                        e.direction, mine, e.paper_modeled_limit_deg(), diff, e.exosuit_deg, e.exosuit_std_deg,
-                        e.biological_deg, e.biological_std_deg);
+    text += fmt::format("| {} | {} | {:.1f} deg | {} | {:.3f} | {:.1f} (STD {:.1f}) deg | {:.1f} (STD {:.1f}) deg |\n",
+                        e.direction, mine, e.paper_modeled_limit_deg(), diff, row.eps_max_matching_paper,
+                        e.exosuit_deg, e.exosuit_std_deg, e.biological_deg, e.biological_std_deg);
   }
   return text;
 }

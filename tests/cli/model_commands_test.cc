@@ -60,6 +60,10 @@ TEST(ModelRom, PrintsFourLimitsBesideThePapers) {
     EXPECT_LT(j[key].get<double>(), 90.0);
   }
   EXPECT_NEAR(j["paper_modeled_deg"]["flexion_deg"].get<double>(), 49.8, 1e-9);
+  // The reported eps_max_matching_paper is the one that moves our limit onto the paper's modeled limit.
+  const double eps = j["eps_max_matching_paper"]["flexion"];
+  const auto m = json::parse(run({"model", "rom", "--json", "--r0", "1.26", "--eps-max", std::to_string(eps)}).out);
+  EXPECT_NEAR(m["flexion_deg"].get<double>(), 49.8, 1e-3);
   // An override changes only its own muscle.
   const auto o = json::parse(run({"model", "rom", "--json", "--flexion", "22,3.5,9,1.5,33.35"}).out);
   EXPECT_NE(o["flexion_deg"], j["flexion_deg"]);
