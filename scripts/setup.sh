@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake           # toolchain: g++ 12, CMake 3.25
-  libmujoco-dev                   # MuJoCo 2.2.2 (user actuator callbacks; no engine-plugin API)
+  libmujoco-dev libqhull-dev      # MuJoCo 2.2.2 (its CMake config needs the qhull headers)
   libeigen3-dev                   # linear algebra
   libnlopt-cxx-dev                # design optimization
   libglfw3-dev libosmesa6-dev     # interactive viewer, headless rendering

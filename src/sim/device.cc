@@ -1,0 +1,268 @@
+#include "sim/device.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "physics/errors.h"
+#include "physics/paper_parameters.h"
+
+namespace softwrist::sim {
+namespace {
+
+using nlohmann::json;
+using units::cm_to_m;
+using units::m_to_cm;
+
+constexpr const char* kFormat = "softwrist.placement/1";
+
+// Reads one JSON object, field by field, with errors that name the source and the field's path.
+class Reader {
+ public:
+  Reader(const json& object, std::string source, std::string path)
+      : object_(object), source_(std::move(source)), path_(std::move(path)) {
+    if (!object_.is_object()) fail("", "must be a JSON object");
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    const std::string field = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
+    throw std::runtime_error(fmt::format("{}: {}: {}", source_, field.empty() ? "(top level)" : field, problem));
+  }
+  bool has(const std::string& key) const { return object_.contains(key); }
+  double number(const std::string& key) {
+    seen_.insert(key);
+    if (!object_.contains(key)) fail(key, "missing");
+    const json& value = object_.at(key);
+    if (!value.is_number()) fail(key, "must be a number");
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) fail(key, "must be finite");
+    return number;
+  }
+  double number(const std::string& key, double fallback) { return has(key) ? number(key) : (seen_.insert(key), fallback); }
+  double positive(const std::string& key, double fallback) {
+    const double v = number(key, fallback);
+    if (!(v > 0.0)) fail(key, fmt::format("must be > 0, got {}", v));
+    return v;
+  }
+  std::string text(const std::string& key, const std::string& fallback) {
+    seen_.insert(key);
+    if (!object_.contains(key)) return fallback;
+    if (!object_.at(key).is_string()) fail(key, "must be a string");
+    return object_.at(key).get<std::string>();
+  }
+  Reader child(const std::string& key) {
+    seen_.insert(key);
+    if (!object_.contains(key)) fail(key, "missing");
+    return Reader(object_.at(key), source_, path_.empty() ? key : path_ + "." + key);
+  }
+  const json& raw(const std::string& key) {
+    seen_.insert(key);
+    if (!object_.contains(key)) fail(key, "missing");
+    return object_.at(key);
+  }
+  // Rejects keys this reader never asked for: a misspelt field must not be silently ignored.
+  void finish() const {
+    for (const auto& [key, value] : object_.items()) {
+      if (!seen_.contains(key)) fail(key, "unknown field");
+    }
+  }
+  const std::string& source() const { return source_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  const json& object_;
+  std::string source_, path_;
+  std::set<std::string> seen_;
+};
+
+physics::FpamParameters read_fpam(Reader fpam) {
+  if (fpam.has("table")) {
+    const json& table = fpam.raw("table");
+    if (!table.is_array() || table.empty()) fpam.fail("table", "must be a non-empty array of rows");
+    std::vector<physics::FpamTableRow> rows;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      Reader row(table[i], fpam.source(), fmt::format("{}.table[{}]", fpam.path(), i));
+      rows.push_back({units::kpa_to_pa(row.number("pressure_kpa")), cm_to_m(row.number("r0_cm")), row.number("eps_max")});
+      row.finish();
+    }
+    fpam.finish();
+    try {
+      return physics::FpamParameters::Table(rows);
+    } catch (const physics::InvalidParameter& e) {
+      fpam.fail("table", e.what());
+    }
+  }
+  const double r0 = cm_to_m(fpam.number("r0_cm"));
+  const double eps_max = fpam.number("eps_max");
+  fpam.finish();
+  try {
+    return physics::FpamParameters::Constant(r0, eps_max);
+  } catch (const physics::InvalidParameter& e) {
+    fpam.fail("", e.what());
+  }
+}
+
+json fpam_to_json(const physics::FpamParameters& fpam) {
+  if (fpam.is_constant()) {
+    return {{"r0_cm", m_to_cm(fpam.rows().front().radius)}, {"eps_max", fpam.rows().front().max_contraction}};
+  }
+  json rows = json::array();
+  for (const auto& row : fpam.rows()) {
+    rows.push_back({{"pressure_kpa", units::pa_to_kpa(row.pressure)}, {"r0_cm", m_to_cm(row.radius)},
+                    {"eps_max", row.max_contraction}});
+  }
+  return {{"table", rows}};
+}
+
+}  // namespace
+
+physics::Muscle DeviceDescription::muscle(int index) const {
+  const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
+  return physics::Muscle{.placement = mount.placement,
+                         .rest_length = mount.rest_length,
+                         .wrist_radius = mount.wrist_radius,
+                         .fpam = fpam,
+                         .stretch_mode = stretch_mode,
+                         .mount_stiffness = mount_stiffness};
+}
+
+DeviceDescription paper_device() {
+  const auto flexor = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
+  DeviceDescription device{.muscles = {}, .fpam = physics::paper::tensile_fpam()};
+  device.muscles[kFlexor] = {flexor.placement, flexor.rest_length, flexor.wrist_radius};
+  const auto& rom = physics::paper::rom_table();
+  for (int i : {kExtensor, kUlnar, kRadial}) {
+    device.muscles[static_cast<std::size_t>(i)] = {rom[static_cast<std::size_t>(i)].placement,
+                                                   rom[static_cast<std::size_t>(i)].rest_length,
+                                                   physics::paper::kRomWristRadius};
+  }
+  device.stretch_mode = physics::StretchMode::kSelfConsistent;
+  device.mount_stiffness = flexor.mount_stiffness;
+  return device;
+}
+
+DeviceDescription parse_device(const std::string& json_text, const std::string& source_name) {
+  json root;
+  try {
+    root = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", source_name, e.what()));
+  }
+  Reader top(root, source_name, "");
+  if (const std::string format = top.text("format", kFormat); format != kFormat) {
+    top.fail("format", fmt::format("'{}' is not '{}'", format, kFormat));
+  }
+  DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"))};
+  Reader muscles = top.child("muscles");
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    Reader m = muscles.child(kMuscleNames[i]);
+    MuscleMount& mount = device.muscles[i];
+    mount.placement = {cm_to_m(m.number("d1_cm")), cm_to_m(m.number("w1_cm")), cm_to_m(m.number("d2_cm")),
+                       cm_to_m(m.number("w2_cm"))};
+    mount.rest_length = cm_to_m(m.number("L0_cm"));
+    mount.wrist_radius = cm_to_m(m.number("rw_cm"));
+    m.finish();
+    try {
+      physics::validate(physics::Muscle{.placement = mount.placement, .rest_length = mount.rest_length,
+                                        .wrist_radius = mount.wrist_radius, .fpam = device.fpam});
+    } catch (const physics::InvalidParameter& e) {
+      m.fail("", e.what());
+    }
+  }
+  muscles.finish();
+  if (top.has("stretch")) {
+    Reader stretch = top.child("stretch");
+    const std::string mode = stretch.text("mode", "none");
+    const auto parsed = physics::parse_stretch_mode(mode);
+    if (!parsed) stretch.fail("mode", fmt::format("'{}' is not none, oneshot or selfconsistent", mode));
+    device.stretch_mode = *parsed;
+    device.mount_stiffness = {units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
+                              units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0))};
+    if (device.stretch_mode != physics::StretchMode::kNone) {
+      try {
+        physics::validate(device.mount_stiffness);
+      } catch (const physics::InvalidParameter& e) {
+        stretch.fail("", e.what());
+      }
+    }
+    stretch.finish();
+  }
+  if (top.has("regulator")) {
+    Reader r = top.child("regulator");
+    device.regulator.max_pressure = units::kpa_to_pa(r.positive("max_pressure_kpa", 137.0));
+    device.regulator.time_constant = r.positive("time_constant_s", device.regulator.time_constant);
+    r.finish();
+  }
+  if (top.has("wrist")) {
+    Reader w = top.child("wrist");
+    PassiveWrist& p = device.wrist;
+    p.stiffness_fe = w.number("stiffness_fe_nm_per_rad", p.stiffness_fe);
+    p.stiffness_ur = w.number("stiffness_ur_nm_per_rad", p.stiffness_ur);
+    p.damping_fe = w.number("damping_fe_nms_per_rad", p.damping_fe);
+    p.damping_ur = w.number("damping_ur_nms_per_rad", p.damping_ur);
+    for (auto [key, value] : {std::pair{"stiffness_fe_nm_per_rad", p.stiffness_fe}, {"stiffness_ur_nm_per_rad", p.stiffness_ur},
+                              {"damping_fe_nms_per_rad", p.damping_fe}, {"damping_ur_nms_per_rad", p.damping_ur}}) {
+      if (value < 0.0) w.fail(key, fmt::format("must be >= 0, got {}", value));
+    }
+    p.flexion_limit = units::deg_to_rad(w.positive("flexion_limit_deg", units::rad_to_deg(p.flexion_limit)));
+    p.extension_limit = units::deg_to_rad(w.positive("extension_limit_deg", units::rad_to_deg(p.extension_limit)));
+    p.ulnar_limit = units::deg_to_rad(w.positive("ulnar_limit_deg", units::rad_to_deg(p.ulnar_limit)));
+    p.radial_limit = units::deg_to_rad(w.positive("radial_limit_deg", units::rad_to_deg(p.radial_limit)));
+    w.finish();
+  }
+  if (top.has("hand")) {
+    Reader h = top.child("hand");
+    device.hand.mass = h.positive("mass_kg", device.hand.mass);
+    device.hand.com_distance = h.positive("com_distance_cm", m_to_cm(device.hand.com_distance)) / 100.0;
+    device.hand.radius_of_gyration = h.positive("radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)) / 100.0;
+    device.hand.length = h.positive("length_cm", m_to_cm(device.hand.length)) / 100.0;
+    h.finish();
+  }
+  top.finish();
+  return device;
+}
+
+DeviceDescription load_device(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_device(text.str(), path.string());
+}
+
+std::string device_to_json(const DeviceDescription& device) {
+  json muscles;
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    const auto& m = device.muscles[i];
+    muscles[kMuscleNames[i]] = {{"d1_cm", m_to_cm(m.placement.d1)}, {"w1_cm", m_to_cm(m.placement.w1)},
+                                {"d2_cm", m_to_cm(m.placement.d2)}, {"w2_cm", m_to_cm(m.placement.w2)},
+                                {"L0_cm", m_to_cm(m.rest_length)},  {"rw_cm", m_to_cm(m.wrist_radius)}};
+  }
+  const auto& w = device.wrist;
+  const json root = {
+      {"format", kFormat},
+      {"muscles", muscles},
+      {"fpam", fpam_to_json(device.fpam)},
+      {"stretch", {{"mode", physics::to_string(device.stretch_mode)},
+                   {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
+                   {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}}},
+      {"regulator", {{"max_pressure_kpa", units::pa_to_kpa(device.regulator.max_pressure)},
+                     {"time_constant_s", device.regulator.time_constant}}},
+      {"wrist", {{"stiffness_fe_nm_per_rad", w.stiffness_fe}, {"stiffness_ur_nm_per_rad", w.stiffness_ur},
+                 {"damping_fe_nms_per_rad", w.damping_fe}, {"damping_ur_nms_per_rad", w.damping_ur},
+                 {"flexion_limit_deg", units::rad_to_deg(w.flexion_limit)},
+                 {"extension_limit_deg", units::rad_to_deg(w.extension_limit)},
+                 {"ulnar_limit_deg", units::rad_to_deg(w.ulnar_limit)},
+                 {"radial_limit_deg", units::rad_to_deg(w.radial_limit)}}},
+      {"hand", {{"mass_kg", device.hand.mass}, {"com_distance_cm", m_to_cm(device.hand.com_distance)},
+                {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
+                {"length_cm", m_to_cm(device.hand.length)}}},
+  };
+  return root.dump(2) + "\n";
+}
+
+}  // namespace softwrist::sim

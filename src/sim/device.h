@@ -1,0 +1,79 @@
+#pragma once
+// The description of one exosuit on one arm: where each of the four fPAMs is mounted, which fPAM it is, how its
+// mounts stretch, the pressure regulators, and the relaxed wrist and hand it moves. Read from a placement file
+// (JSON, documented in docs/placement-file.md); the MuJoCo model is generated from it (model_builder.h).
+
+#include <array>
+#include <filesystem>
+#include <string>
+
+#include "physics/muscle_torque.h"
+#include "physics/units.h"
+
+namespace softwrist::sim {
+
+// The four muscles, in the order of the model's tendons and actuators.
+enum MuscleIndex { kFlexor = 0, kExtensor = 1, kUlnar = 2, kRadial = 3 };
+inline constexpr std::array<const char*, 4> kMuscleNames = {"flexor", "extensor", "ulnar", "radial"};
+
+struct MuscleMount {
+  physics::Placement placement;  // in the muscle's own plane (torque_geometry.h)
+  double rest_length = 0.0;      // L0 [m]
+  double wrist_radius = 0.0;     // r_w [m] of the wrist surface this muscle wraps around
+};
+
+// The relaxed wrist and the hand (cited in docs/placement-file.md and the generated model).
+struct PassiveWrist {
+  double stiffness_fe = 1.0;   // [N m/rad] flexion/extension (Charles & Hogan 2011, J Biomech 44:614; approx.)
+  double stiffness_ur = 1.6;   // [N m/rad] ulnar/radial, stiffer than FE (Formica et al. 2012, J Neurophysiol)
+  double damping_fe = 0.03;    // [N m s/rad] (Charles & Hogan 2011; approx.)
+  double damping_ur = 0.04;    // [N m s/rad]
+  // Biological range of motion, Table RoM [rad]: joint limits of the model.
+  double flexion_limit = units::deg_to_rad(80.9);
+  double extension_limit = units::deg_to_rad(56.0);
+  double ulnar_limit = units::deg_to_rad(39.1);
+  double radial_limit = units::deg_to_rad(23.2);
+};
+
+struct Hand {
+  // Winter, Biomechanics and Motor Control of Human Movement (4th ed., Table 4.1): hand mass 0.006 of body mass,
+  // centre of mass 0.506 of the wrist-to-knuckle length, radius of gyration 0.297 of it about the centre of mass.
+  // For a 75 kg adult with an 0.19 m hand: 0.45 kg, 0.096 m, 0.056 m.
+  double mass = 0.45;             // [kg]
+  double com_distance = 0.096;    // [m] from the wrist joint centre along the hand
+  double radius_of_gyration = 0.056;  // [m]
+  double length = 0.19;           // [m], drawn
+};
+
+struct Regulator {
+  double max_pressure = 137e3;  // [Pa] (Section Exosuit Prototype: QB3 regulators, 0-137 kPa)
+  // The paper gives no regulator dynamics. 0.1 s is an assumed first-order time constant for a closed-loop
+  // regulator filling a ~0.1 L fPAM through 6.35 mm tubing; the gap diagnosis's regulator_lag effect fits it.
+  double time_constant = 0.1;   // [s]
+};
+
+struct DeviceDescription {
+  std::array<MuscleMount, 4> muscles;
+  physics::FpamParameters fpam;  // shared by the four muscles (as in Section Range of motion)
+  physics::StretchMode stretch_mode = physics::StretchMode::kNone;
+  physics::MountStiffness mount_stiffness;
+  Regulator regulator;
+  PassiveWrist wrist;
+  Hand hand;
+
+  // The physics-core description of muscle i, for the analytic model.
+  physics::Muscle muscle(int index) const;
+};
+
+// The paper's device: the flexor of Table torque_measurement_parameters (with its r_w = 3.99 cm and K1, K2), the
+// extensor, ulnar and radial muscles of Table RoM (r_w = 2 cm, the user's wrist), the fPAM of Table
+// tensile_testing_parameters, self-consistent stretching.
+DeviceDescription paper_device();
+
+// Reads a placement file. Errors throw std::runtime_error("<file>: <field>: <problem>").
+DeviceDescription load_device(const std::filesystem::path& path);
+DeviceDescription parse_device(const std::string& json_text, const std::string& source_name);
+// The placement file that load_device reads back to the same description.
+std::string device_to_json(const DeviceDescription& device);
+
+}  // namespace softwrist::sim

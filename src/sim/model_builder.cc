@@ -1,0 +1,144 @@
+#include "sim/model_builder.h"
+
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "physics/units.h"
+
+namespace softwrist::sim {
+namespace {
+
+// Unit vectors (in the forearm frame) of each muscle's 2D y axis (its side) and of its cylinder's axis.
+struct MusclePlane {
+  std::array<double, 3> side;
+  const char* cylinder_quat;  // rotates the cylinder's local z onto the joint axis
+};
+constexpr std::array<MusclePlane, 4> kPlanes = {{
+    {{0, 0, -1}, "0.70710678 -0.70710678 0 0"},  // flexor: palmar, wraps about y
+    {{0, 0, 1}, "0.70710678 -0.70710678 0 0"},   // extensor: dorsal
+    {{0, -1, 0}, "1 0 0 0"},                     // ulnar: wraps about z
+    {{0, 1, 0}, "1 0 0 0"},                      // radial
+}};
+
+std::string vec(double x, const std::array<double, 3>& side, double offset) {
+  return fmt::format("{:.6g} {:.6g} {:.6g}", x + 0.0, side[1] * offset + 0.0, side[2] * offset + 0.0);
+}
+
+std::string list(const std::vector<double>& values) {
+  std::string out;
+  for (const double v : values) out += (out.empty() ? "" : ",") + fmt::format("{:.10g}", v);
+  return out;
+}
+
+// The plugin configuration of one muscle (fpam_actuator.h's attributes).
+std::string plugin_config(const DeviceDescription& device, const MuscleMount& mount) {
+  std::string config = fmt::format("softwrist.fpam rest_length={:.10g}", mount.rest_length);
+  const auto& rows = device.fpam.rows();
+  if (device.fpam.is_constant()) {
+    config += fmt::format(" r0={:.10g} eps_max={:.10g}", rows[0].radius, rows[0].max_contraction);
+  } else {
+    std::vector<double> p, r, e;
+    for (const auto& row : rows) {
+      p.push_back(units::pa_to_kpa(row.pressure));
+      r.push_back(row.radius);
+      e.push_back(row.max_contraction);
+    }
+    config += fmt::format(" table_pressure_kpa={} table_r0={} table_eps_max={}", list(p), list(r), list(e));
+  }
+  const auto& fabric = device.fpam.fabric();
+  config += fmt::format(" elastic_modulus={:.10g} thickness={:.10g} epsilon0={:.10g}", fabric.elastic_modulus,
+                        fabric.thickness, fabric.elastic_onset_contraction);
+  config += fmt::format(" stretch={}", physics::to_string(device.stretch_mode));
+  if (device.stretch_mode != physics::StretchMode::kNone) {
+    config += fmt::format(" K1={:.10g} K2={:.10g}", device.mount_stiffness.forearm, device.mount_stiffness.hand);
+  }
+  config += fmt::format(" max_pressure_kpa={:.10g} time_constant={:.10g}", units::pa_to_kpa(device.regulator.max_pressure),
+                        device.regulator.time_constant);
+  return config;
+}
+
+}  // namespace
+
+std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options) {
+  const auto& w = device.wrist;
+  const auto& h = device.hand;
+  const double max_kpa = units::pa_to_kpa(device.regulator.max_pressure);
+  const double inertia = h.mass * h.radius_of_gyration * h.radius_of_gyration;
+
+  std::string custom, forearm_items, hand_items, tendons, actuators;
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    const std::string name = kMuscleNames[i];
+    const MuscleMount& m = device.muscles[i];
+    const MusclePlane& plane = kPlanes[i];
+    const double r_w = m.wrist_radius;
+    forearm_items += fmt::format(
+        "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.004\" rgba=\"0.2 0.4 0.9 1\"/>\n"
+        "      <geom name=\"{0}_wrap\" type=\"cylinder\" size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
+        "conaffinity=\"0\" group=\"3\" rgba=\"0.8 0.8 0.8 0.3\" mass=\"0\"/>\n"
+        "      <site name=\"{0}_side\" pos=\"{4}\" size=\"0.002\" group=\"3\"/>\n",
+        name, vec(-m.placement.d1, plane.side, m.placement.w1), r_w, plane.cylinder_quat,
+        vec(0.0, plane.side, 2.0 * r_w));
+    hand_items += fmt::format("        <site name=\"{0}_hand\" pos=\"{1}\" size=\"0.004\" rgba=\"0.2 0.4 0.9 1\"/>\n",
+                              name, vec(m.placement.d2, plane.side, m.placement.w2));
+    tendons += fmt::format(
+        "    <spatial name=\"{0}\" width=\"0.006\" rgba=\"0.2 0.45 0.95 1\">\n"
+        "      <site site=\"{0}_forearm\"/>\n      <geom geom=\"{0}_wrap\" sidesite=\"{0}_side\"/>\n"
+        "      <site site=\"{0}_hand\"/>\n    </spatial>\n",
+        name);
+    if (options.actuators == ActuatorKind::kFpamPlugin) {
+      custom += fmt::format("    <text name=\"plugin:{}\" data=\"{}\"/>\n", name, plugin_config(device, m));
+      actuators += fmt::format(
+          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"user\" gaintype=\"user\" biastype=\"user\" "
+          "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",
+          name, max_kpa);
+    } else {
+      // The same regulator as a built-in filter, and a force linear in pressure (about the fPAM's at 10 % contraction).
+      actuators += fmt::format(
+          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"filter\" dynprm=\"{2:.10g}\" gainprm=\"-1\" "
+          "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",
+          name, max_kpa, device.regulator.time_constant);
+    }
+  }
+
+  return fmt::format(
+      R"(<mujoco model="softwrist">
+  <!-- Generated by softwrist from a device description (src/sim/model_builder.cc). SI units; ctrl and act in kPa.
+       Hand: Winter, Biomechanics and Motor Control of Human Movement, Table 4.1. Passive wrist stiffness and
+       damping: approximately Charles & Hogan 2011 (J Biomech 44:614) and Formica et al. 2012 (J Neurophysiol
+       108:1158, ulnar/radial stiffer than flexion/extension). Joint ranges: biological range of motion, Table RoM. -->
+  <compiler angle="radian" inertiafromgeom="false"/>
+  <option timestep="{timestep:.10g}" gravity="0 0 -9.81"/>
+  <visual><global offwidth="1280" offheight="960"/></visual>
+  <custom>
+{custom}  </custom>
+  <worldbody>
+    <light pos="0 0 1.5" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
+    <geom name="table" type="plane" pos="0 0 -0.06" size="0.6 0.6 0.01" rgba="0.85 0.85 0.8 1" contype="0" conaffinity="0"/>
+    <body name="forearm" quat="0.70710678 0.70710678 0 0">
+      <inertial pos="-0.12 0 0" mass="1.2" diaginertia="0.001 0.006 0.006"/>
+      <geom name="forearm" type="capsule" fromto="-0.26 0 0 -0.03 0 0" size="0.028" rgba="0.93 0.78 0.67 1" contype="0" conaffinity="0"/>
+{forearm_items}      <body name="hand">
+        <joint name="wrist_fe" type="hinge" axis="0 1 0" limited="true" range="{ext:.10g} {flex:.10g}" stiffness="{kfe:.10g}" damping="{bfe:.10g}"/>
+        <joint name="wrist_ur" type="hinge" axis="0 0 -1" limited="true" range="{rad:.10g} {uln:.10g}" stiffness="{kur:.10g}" damping="{bur:.10g}"/>
+        <inertial pos="{com:.10g} 0 0" mass="{mass:.10g}" diaginertia="{i:.10g} {i:.10g} {i:.10g}"/>
+        <geom name="hand" type="box" pos="{half:.10g} 0 0" size="{half:.10g} 0.04 0.012" rgba="0.93 0.78 0.67 1" contype="0" conaffinity="0"/>
+{hand_items}      </body>
+    </body>
+  </worldbody>
+  <tendon>
+{tendons}  </tendon>
+  <actuator>
+{actuators}  </actuator>
+</mujoco>
+)",
+      fmt::arg("timestep", options.timestep), fmt::arg("custom", custom), fmt::arg("forearm_items", forearm_items),
+      fmt::arg("hand_items", hand_items), fmt::arg("tendons", tendons), fmt::arg("actuators", actuators),
+      fmt::arg("ext", -w.extension_limit), fmt::arg("flex", w.flexion_limit), fmt::arg("rad", -w.radial_limit),
+      fmt::arg("uln", w.ulnar_limit), fmt::arg("kfe", w.stiffness_fe), fmt::arg("bfe", w.damping_fe),
+      fmt::arg("kur", w.stiffness_ur), fmt::arg("bur", w.damping_ur), fmt::arg("com", h.com_distance),
+      fmt::arg("mass", h.mass), fmt::arg("i", inertia), fmt::arg("half", h.length / 2.0));
+}
+
+}  // namespace softwrist::sim

@@ -1,0 +1,30 @@
+#pragma once
+// Generates the MuJoCo hand-forearm model (MJCF) from a device description.
+//
+// Frame of the forearm body (fixed to the world, turned so that flexion/extension happens in the horizontal plane
+// as on the paper's torque rig and in Section Planar angle tracking): x along the forearm towards the hand, y
+// radial, z dorsal. The hand hangs on two hinges at the joint centre O: wrist_fe about +y (flexion positive, hand
+// towards palmar -z) and wrist_ur about -z (ulnar deviation positive, hand towards -y). Each muscle's 2D plane
+// (torque_geometry.h) maps into 3D: the flexor lies in the x/-z half-plane, the extensor in x/+z, the ulnar muscle in
+// x/-y, the radial in x/+y; its forearm mount is at (-d1, w1) and its hand mount at (d2, w2) in that plane, and it
+// wraps around its own cylinder of radius r_w along its joint axis, on its own side (a sidesite).
+
+#include <string>
+
+#include "sim/device.h"
+
+namespace softwrist::sim {
+
+enum class ActuatorKind {
+  kFpamPlugin,      // <general> with user dynamics/gain/bias, configured for softwrist.fpam
+  kBuiltinGeneral,  // MuJoCo's own <general>: first-order filter on ctrl, force = -gain * act (benchmark baseline)
+};
+
+struct ModelOptions {
+  ActuatorKind actuators = ActuatorKind::kFpamPlugin;
+  double timestep = 0.001;  // [s]
+};
+
+std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});
+
+}  // namespace softwrist::sim

@@ -1,0 +1,82 @@
+#include "fpam_actuator.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "physics/muscle_torque.h"
+#include "physics/paper_parameters.h"
+
+namespace softwrist::plugin {
+namespace {
+
+std::optional<FpamActuator> create(const std::string& text, std::string* error) {
+  std::string parse_error;
+  const auto config = PluginConfig::Parse(text, &parse_error);
+  if (!config) {
+    *error = parse_error;
+    return std::nullopt;
+  }
+  return FpamActuator::Create(*config, "flexor", error);
+}
+
+const char* kTorqueRig =
+    "softwrist.fpam rest_length=0.32 table_pressure_kpa=0,34,68,103,137 table_r0=0.0123,0.0127,0.0122,0.0119,0.0126 "
+    "table_eps_max=0.153,0.303,0.296,0.301,0.277 stretch=selfconsistent K1=-433600 K2=-10975000";
+
+// The plugin's force is the physics core's, stretch included (one source of truth).
+TEST(FpamActuator, ForceIsThePhysicsCoresAtTheTendonLength) {
+  std::string error;
+  const auto actuator = create(kTorqueRig, &error);
+  ASSERT_TRUE(actuator) << error;
+  const auto muscle = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
+  for (double angle : {-1.0, -0.3, 0.0, 0.4, 0.8}) {
+    for (double kpa : {0.0, 34.0, 50.0, 137.0}) {
+      const auto state = physics::muscle_state(muscle, angle, kpa * 1e3);
+      EXPECT_NEAR(actuator->Force(state.path_length, kpa), state.force, 1e-9) << angle << " " << kpa;
+    }
+  }
+}
+
+TEST(FpamActuator, RegulatorIsFirstOrderTowardsTheClampedCommand) {
+  std::string error;
+  const auto actuator = create("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0.05", &error);
+  ASSERT_TRUE(actuator) << error;
+  EXPECT_DOUBLE_EQ(actuator->PressureRate(100.0, 20.0), 80.0 / 0.05);
+  EXPECT_DOUBLE_EQ(actuator->PressureRate(500.0, 0.0), 137.0 / 0.05);
+  EXPECT_DOUBLE_EQ(actuator->PressureRate(-50.0, 10.0), -10.0 / 0.05);
+  EXPECT_EQ(actuator->PressureRate(std::nan(""), 10.0), 0.0);
+  EXPECT_EQ(actuator->Force(std::nan(""), 100.0), 0.0);
+  EXPECT_EQ(actuator->Force(0.25, std::nan("")), 0.0);
+}
+
+// A malformed configuration fails at load with a message naming the actuator and the attribute.
+TEST(FpamActuator, MalformedConfigurationsNameActuatorAndAttribute) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"softwrist.fpam r0=0.0123 eps_max=0.28", "attribute 'rest_length': missing"},
+      {"softwrist.fpam rest_length=-0.3 r0=0.0123 eps_max=0.28", "attribute 'rest_length': must be > 0"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=1.5", "max_contraction"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123", "attribute 'eps_max': missing"},
+      {"softwrist.fpam rest_length=0.3", "give either r0 and eps_max"},
+      {"softwrist.fpam rest_length=abc r0=0.0123 eps_max=0.28", "attribute 'rest_length'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=sometimes", "attribute 'stretch'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K2=5", "attribute 'K1'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 colour=red", "attribute 'colour': unknown"},
+      {"softwrist.fpam rest_length=0.3 table_pressure_kpa=0,34 table_r0=0.01 table_eps_max=0.2,0.3", "differ"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0", "attribute 'time_constant'"},
+      {"other.plugin rest_length=0.3", "is not softwrist.fpam"},
+  };
+  for (const auto& [text, expected] : cases) {
+    std::string error;
+    EXPECT_FALSE(create(text, &error)) << text;
+    EXPECT_NE(error.find(expected), std::string::npos) << text << " -> " << error;
+    EXPECT_NE(error.find("actuator 'flexor'"), std::string::npos) << error;
+  }
+  std::string error;
+  EXPECT_FALSE(PluginConfig::Parse("softwrist.fpam rest_length", &error));
+  EXPECT_FALSE(PluginConfig::Parse("softwrist.fpam a=1 a=2", &error));
+  EXPECT_FALSE(PluginConfig::Parse("", &error));
+}
+
+}  // namespace
+}  // namespace softwrist::plugin

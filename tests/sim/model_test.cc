@@ -1,0 +1,181 @@
+// The MuJoCo model with the fPAM plugin, checked against the physics core's 2D model.
+
+#include "sim/model.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "physics/muscle_torque.h"
+#include "physics/units.h"
+#include "sim/device.h"
+#include "sim/model_builder.h"
+
+namespace softwrist::sim {
+namespace {
+
+using units::deg_to_rad;
+
+const PluginSet& plugins() {
+  static const PluginSet set = PluginSet::Default();
+  return set;
+}
+
+struct Sim {
+  explicit Sim(const DeviceDescription& device) : model(Model::FromXml(build_model_xml(device), plugins())), data(make_data(model)) {
+    fe = model->jnt_dofadr[model.id(mjOBJ_JOINT, "wrist_fe")];
+    ur = model->jnt_dofadr[model.id(mjOBJ_JOINT, "wrist_ur")];
+  }
+  // Holds the wrist at (fe, ur) with the given regulated pressures [kPa] and evaluates the model.
+  void hold(double fe_angle, double ur_angle, const std::array<double, 4>& kpa) {
+    mj_resetData(model.get(), data.get());
+    data->qpos[model->jnt_qposadr[model.id(mjOBJ_JOINT, "wrist_fe")]] = fe_angle;
+    data->qpos[model->jnt_qposadr[model.id(mjOBJ_JOINT, "wrist_ur")]] = ur_angle;
+    for (int i = 0; i < 4; ++i) data->act[i] = kpa[static_cast<std::size_t>(i)];
+    mj_forward(model.get(), data.get());
+  }
+  // Joint torque of one actuator on one dof: its force times its moment (its share of qfrc_actuator).
+  double torque(int actuator, int dof) const {
+    return data->actuator_force[actuator] * data->actuator_moment[actuator * model->nv + dof];
+  }
+  Model model;
+  Data data;
+  int fe = -1, ur = -1;
+};
+
+// The cross-check: the flexor held at the paper's eight angles and a 1-degree grid, at the five pressures,
+// straight and wrapping, with and without stretching: MuJoCo's joint torque equals the 2D model within 2 % or
+// 0.02 Nm. In its own plane the spatial tendon wrapping a cylinder about the joint axis is exactly the 2D geometry,
+// so the tendon length is checked to 1e-9 m as well.
+TEST(ModelCrossCheck, FlexorTorqueMatchesThe2DModel) {
+  for (auto mode : {physics::StretchMode::kNone, physics::StretchMode::kSelfConsistent}) {
+    DeviceDescription device = paper_device();
+    device.stretch_mode = mode;
+    Sim sim(device);
+    const physics::Muscle flexor = device.muscle(kFlexor);
+    std::vector<double> angles_deg = {-67.5, -45.0, -22.5, 0.0, 22.5, 45.0, 67.5, 90.0};
+    for (int a = -67; a <= 90; ++a) angles_deg.push_back(a);
+    int wrapped = 0, straight = 0;
+    for (const double deg : angles_deg) {
+      for (const double kpa : {0.0, 34.0, 68.0, 103.0, 137.0}) {
+        sim.hold(deg_to_rad(deg), 0.0, {kpa, 0.0, 0.0, 0.0});
+        const auto expected = physics::muscle_state(flexor, deg_to_rad(deg), kpa * 1e3);
+        ASSERT_NEAR(sim.data->actuator_length[kFlexor], expected.path_length, 1e-9) << deg;
+        const double torque = sim.torque(kFlexor, sim.fe);
+        ASSERT_NEAR(torque, expected.torque, std::max(0.02, 0.02 * std::abs(expected.torque)))
+            << physics::to_string(mode) << " " << deg << " deg " << kpa << " kPa";
+        (expected.regime == physics::Regime::kWrapping ? wrapped : straight) += 1;
+      }
+    }
+    EXPECT_GT(wrapped, 100);
+    EXPECT_GT(straight, 100);
+  }
+}
+
+// The other three muscles in their own planes: the extensor sees -fe, the ulnar muscle +ur, the radial -ur.
+TEST(ModelCrossCheck, EveryMuscleMatchesThe2DModelInItsPlane) {
+  const DeviceDescription device = paper_device();
+  Sim sim(device);
+  struct Case {
+    int muscle, dof_sign;
+    bool fe_plane;
+  };
+  for (const Case c : {Case{kExtensor, -1, true}, Case{kUlnar, 1, false}, Case{kRadial, -1, false}}) {
+    const physics::Muscle muscle = device.muscle(c.muscle);
+    for (int deg = -50; deg <= 50; deg += 5) {
+      std::array<double, 4> kpa{};
+      kpa[static_cast<std::size_t>(c.muscle)] = 103.0;
+      const double q = deg_to_rad(deg);
+      sim.hold(c.fe_plane ? q : 0.0, c.fe_plane ? 0.0 : q, kpa);
+      const auto expected = physics::muscle_state(muscle, c.dof_sign * q, 103e3);
+      ASSERT_NEAR(sim.data->actuator_length[c.muscle], expected.path_length, 1e-9) << c.muscle << " " << deg;
+      const double torque = c.dof_sign * sim.torque(c.muscle, c.fe_plane ? sim.fe : sim.ur);
+      ASSERT_NEAR(torque, expected.torque, std::max(0.02, 0.02 * std::abs(expected.torque))) << c.muscle << " " << deg;
+    }
+  }
+}
+
+// Regulator: a step in commanded pressure reaches 63 % at the time constant; the pressure never leaves [0, max].
+TEST(ModelRegulator, StepReaches63PercentAtTheTimeConstantAndStaysInRange) {
+  DeviceDescription device = paper_device();
+  Sim sim(device);
+  mj_resetData(sim.model.get(), sim.data.get());
+  const double tau = device.regulator.time_constant;
+  sim.data->ctrl[kFlexor] = 100.0;
+  while (sim.data->time < tau - 1e-12) mj_step(sim.model.get(), sim.data.get());
+  EXPECT_NEAR(sim.data->act[kFlexor] / 100.0, 1.0 - std::exp(-1.0), 0.01);
+  // Commands outside the regulator's range: the pressure stays within [0, 137] kPa.
+  mj_resetData(sim.model.get(), sim.data.get());
+  double low = 1e9, high = -1e9;
+  for (int step = 0; step < 3000; ++step) {
+    sim.data->ctrl[kFlexor] = step < 1500 ? 500.0 : -50.0;
+    sim.data->ctrl[kUlnar] = 1e6;
+    mj_step(sim.model.get(), sim.data.get());
+    for (int i = 0; i < 4; ++i) {
+      low = std::min(low, sim.data->act[i]);
+      high = std::max(high, sim.data->act[i]);
+    }
+  }
+  EXPECT_GE(low, 0.0);
+  EXPECT_LE(high, 137.0 + 1e-9);
+  EXPECT_GT(high, 136.0);
+}
+
+// Free motion: each muscle alone at 137 kPa moves the relaxed wrist in its own direction and it settles there.
+TEST(ModelFreeMotion, EachMuscleAloneSettlesInItsOwnDirection) {
+  Sim sim(paper_device());
+  const std::array<std::pair<int, double>, 4> expected_sign = {{{kFlexor, 1.0}, {kExtensor, -1.0}, {kUlnar, 1.0}, {kRadial, -1.0}}};
+  for (const auto& [muscle, sign] : expected_sign) {
+    mj_resetData(sim.model.get(), sim.data.get());
+    sim.data->ctrl[muscle] = 137.0;
+    for (int step = 0; step < 6000; ++step) mj_step(sim.model.get(), sim.data.get());
+    const int dof = (muscle == kFlexor || muscle == kExtensor) ? sim.fe : sim.ur;
+    const double angle = sim.data->qpos[dof];
+    EXPECT_GT(sign * angle, deg_to_rad(5.0)) << kMuscleNames[static_cast<std::size_t>(muscle)];
+    EXPECT_LT(std::abs(sim.data->qvel[dof]), 1e-2) << "settled";
+  }
+}
+
+// Every combination of 0 and 137 kPa on the four muscles stays finite.
+TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
+  Sim sim(paper_device());
+  for (int corner = 0; corner < 16; ++corner) {
+    mj_resetData(sim.model.get(), sim.data.get());
+    for (int i = 0; i < 4; ++i) sim.data->ctrl[i] = (corner >> i) & 1 ? 137.0 : 0.0;
+    for (int step = 0; step < 2000; ++step) mj_step(sim.model.get(), sim.data.get());
+    for (int i = 0; i < sim.model->nq; ++i) ASSERT_TRUE(std::isfinite(sim.data->qpos[i])) << corner;
+    for (int i = 0; i < sim.model->nu; ++i) ASSERT_TRUE(std::isfinite(sim.data->actuator_force[i])) << corner;
+  }
+}
+
+// A malformed model or plugin configuration fails at load, naming the actuator and the attribute.
+TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
+  const std::string xml = build_model_xml(paper_device());
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = xml;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam "), "actuator 'flexor': attribute 'rest_length': missing"},
+      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam rest_length=-1 "), "actuator 'flexor': attribute 'rest_length'"},
+      {replaced("table_eps_max=0.153", "table_eps_max=1.5"), "actuator 'flexor'"},
+      {replaced("data=\"softwrist.fpam rest_length=0.32", "data=\"acme.muscle rest_length=0.32"),
+       "actuator 'flexor': unknown plugin 'acme.muscle'"},
+      {replaced("<text name=\"plugin:flexor\"", "<text name=\"plugin:nobody\""), "actuator 'flexor' has user"},
+      {replaced("<tendon>", "<tendon><bogus/>"), "model.xml"},
+      {"<mujoco><worldbody>", "model.xml"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      Model::FromXml(text, plugins());
+      ADD_FAILURE() << "loaded a model that should fail with: " << expected;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace softwrist::sim
