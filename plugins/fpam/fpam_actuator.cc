@@ -157,11 +157,10 @@ double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) co
 double FpamActuator::Force(double tendon_length, double regulated_kpa) const {
   if (!std::isfinite(tendon_length) || !std::isfinite(regulated_kpa) || tendon_length < 0.0) return 0.0;
   const double pressure = units::kpa_to_pa(std::clamp(regulated_kpa, 0.0, max_pressure_kpa_));
-  const physics::FpamCoefficients coefficients = fpam_.at_pressure(pressure);
-  const auto force_at_length = [&](double length) {
-    return physics::fpam_force(pressure, physics::contraction_ratio(length, rest_length_), coefficients,
-                               fpam_.fabric());
-  };
+  const physics::FpamForceLaw force_law(pressure, fpam_.at_pressure(pressure), fpam_.fabric());
+  const double rest_length = rest_length_;
+  // Eqn. force's contraction ratio, (L0 - L) / L0; L0 > 0 was validated in Create.
+  const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
   return physics::solve_mount_stretch(force_at_length, tendon_length, mount_stiffness_, stretch_mode_).force;
 }
 

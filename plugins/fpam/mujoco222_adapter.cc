@@ -11,6 +11,8 @@
 // and mjData::plugin_data). It is guarded by a shared mutex; instances are immutable and the per-step state (the
 // activation) lives in mjData, so threads stepping different mjData of the same or different models are safe.
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
@@ -39,11 +41,32 @@ std::unordered_map<const mjModel*, std::shared_ptr<const Instances>>& Registry()
   return registry;
 }
 
+// Bumped (under the unique lock) on every attach and detach, so that a thread's cached lookup is never used for a
+// freed model whose address a new model happens to reuse.
+std::atomic<std::uint64_t>& Generation() {
+  static std::atomic<std::uint64_t> generation{1};
+  return generation;
+}
+
+// Each thread remembers its last model's instances: MuJoCo calls the hooks for every actuator every step, and the
+// cache saves the shared lock and the hash lookup there.
+struct ThreadCache {
+  const mjModel* model = nullptr;
+  std::uint64_t generation = 0;
+  std::shared_ptr<const Instances> instances;
+};
+
 const FpamActuator* Find(const mjModel* m, int id) {
-  std::shared_lock lock(RegistryMutex());
-  const auto found = Registry().find(m);
-  if (found == Registry().end()) return nullptr;
-  const auto& instance = (*found->second)[static_cast<std::size_t>(id)];
+  thread_local ThreadCache cache;
+  const std::uint64_t generation = Generation().load(std::memory_order_acquire);
+  if (cache.model != m || cache.generation != generation) {
+    std::shared_lock lock(RegistryMutex());
+    const auto found = Registry().find(m);
+    cache = {m, Generation().load(std::memory_order_relaxed),
+             found == Registry().end() ? nullptr : found->second};
+  }
+  if (cache.instances == nullptr) return nullptr;
+  const auto& instance = (*cache.instances)[static_cast<std::size_t>(id)];
   return instance ? &*instance : nullptr;
 }
 
@@ -131,6 +154,7 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
   }
   std::unique_lock lock(RegistryMutex());
   Registry()[m] = std::move(instances);
+  Generation().fetch_add(1, std::memory_order_release);
   return count;
 }
 
@@ -138,4 +162,5 @@ SOFTWRIST_PLUGIN_EXPORT void softwrist_plugin_detach(const mjModel* m) {
   using namespace softwrist::plugin;
   std::unique_lock lock(RegistryMutex());
   Registry().erase(m);
+  Generation().fetch_add(1, std::memory_order_release);
 }

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/arguments.h"
+#include "cli/bench_commands.h"
 #include "cli/model_commands.h"
 #include "physics/errors.h"
 
@@ -18,6 +19,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   app.require_subcommand(1);
   app.set_version_flag("--version", SOFTWRIST_VERSION);
   add_model_commands(app, out);
+  add_bench_commands(app, out);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

@@ -16,6 +16,9 @@
 #include "physics/paper_parameters.h"
 #include "physics/range_of_motion.h"
 #include "physics/units.h"
+#include "sim/device.h"
+#include "sim/model.h"
+#include "sim/model_builder.h"
 
 namespace softwrist::cli {
 namespace {
@@ -308,6 +311,24 @@ int run_tables(const std::string& out_dir, std::ostream& out) {
   return 0;
 }
 
+// --- model build / placement: the MuJoCo model from a placement file ------------------------------------------
+
+struct BuildOptions {
+  std::string placement;  // empty: the paper's device
+  std::string out;
+};
+
+int run_build(const BuildOptions& options, std::ostream& out) {
+  const sim::DeviceDescription device =
+      options.placement.empty() ? sim::paper_device() : sim::load_device(options.placement);
+  const std::string xml = sim::build_model_xml(device);
+  // Load it once with the plugins, so a model that would not load is never written.
+  sim::Model::FromXml(xml, sim::PluginSet::Default(), options.out);
+  write_file(options.out, xml);
+  out << fmt::format("Wrote {} ({} muscles, plugin softwrist.fpam)\n", options.out, sim::kMuscleNames.size());
+  return 0;
+}
+
 }  // namespace
 
 void add_model_commands(CLI::App& app, std::ostream& out) {
@@ -352,6 +373,27 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
                                                  "pressures (three models) and the modeled range of motion");
   tables->add_option("--out", *tables_dir, "Directory for model_tables.md, torque.json, rom.json");
   tables->callback([tables_dir, &out] { run_tables(*tables_dir, out); });
+
+  auto build_options = std::make_shared<BuildOptions>();
+  auto* build = model->add_subcommand("build", "Generate the MuJoCo hand-forearm model (MJCF) from a placement file "
+                                               "(docs/placement-file.md); checks that it loads with the plugins");
+  build->add_option("--placement", build_options->placement, "Placement file (JSON); default: the paper's device")
+      ->check(CLI::ExistingFile);
+  build->add_option("--out", build_options->out, "Output MJCF file")->required();
+  build->callback([build_options, &out] { run_build(*build_options, out); });
+
+  auto placement_out = std::make_shared<std::string>();
+  auto* placement = model->add_subcommand("placement", "Write the paper's device as a placement file, a starting "
+                                                       "point for a personalised one");
+  placement->add_option("--out", *placement_out, "Output file; default: print");
+  placement->callback([placement_out, &out] {
+    const std::string text = sim::device_to_json(sim::paper_device());
+    if (placement_out->empty()) {
+      out << text;
+    } else {
+      write_file(*placement_out, text);
+    }
+  });
 }
 
 }  // namespace softwrist::cli

@@ -20,17 +20,25 @@ double fiber_angle(double max_contraction) {
   return -std::asin(std::sqrt(eps * eps - 2.0 * eps + 2.0 / 3.0) / (eps - 1.0));
 }
 
-double pressure_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients) {
+FpamForceLaw::FpamForceLaw(double pressure, const FpamCoefficients& coefficients, const FabricProperties& fabric) {
   require_non_negative("pressure [Pa]", pressure);
-  require_finite("contraction_ratio", contraction_ratio);
   validate(coefficients);
-  const double alpha0 = fiber_angle(coefficients.max_contraction);
-  const double sin_a = std::sin(alpha0);
-  const double tan_a = std::tan(alpha0);
-  const double stretch = 1.0 - contraction_ratio;
+  // Eqn. fiber_orientation substituted without trigonometry: it is cos^2(alpha_0) = 1 / (3 (1 - eps_max)^2), so
+  // sin^2 = 1 - cos^2 and 3 / tan^2 = 3 cos^2 / sin^2 (fpam_force_test.cc checks this against fiber_angle()).
+  const double one_minus = 1.0 - coefficients.max_contraction;
+  const double cos2 = 1.0 / (3.0 * one_minus * one_minus);
+  const double sin2 = 1.0 - cos2;
   const double r0 = coefficients.radius;
-  return std::numbers::pi * pressure * r0 * r0 *
-         (3.0 * stretch * stretch / (tan_a * tan_a) - 1.0 / (sin_a * sin_a));
+  mckibben_scale_ = std::numbers::pi * pressure * r0 * r0;
+  three_over_tan2_ = 3.0 * cos2 / sin2;
+  one_over_sin2_ = 1.0 / sin2;
+  elastic_slope_ = 2.0 * std::numbers::pi * fabric.elastic_modulus * fabric.thickness * r0;
+  elastic_onset_ = fabric.elastic_onset_contraction;
+}
+
+double pressure_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients) {
+  require_finite("contraction_ratio", contraction_ratio);
+  return FpamForceLaw(pressure, coefficients, FabricProperties{}).pressure_term(contraction_ratio);
 }
 
 double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric) {
@@ -42,9 +50,8 @@ double fabric_elastic_force(double contraction_ratio, double radius, const Fabri
 
 double fpam_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients,
                   const FabricProperties& fabric) {
-  const double total = pressure_force(pressure, contraction_ratio, coefficients) +
-                       fabric_elastic_force(contraction_ratio, coefficients.radius, fabric);
-  return std::max(0.0, total);
+  require_finite("contraction_ratio", contraction_ratio);
+  return FpamForceLaw(pressure, coefficients, fabric)(contraction_ratio);
 }
 
 double fpam_force(const FpamParameters& fpam, double pressure, double contraction_ratio) {

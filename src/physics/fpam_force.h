@@ -28,6 +28,35 @@ double pressure_force(double pressure, double contraction_ratio, const FpamCoeff
 // (Section fPAM force modeling: "We assign zero elastic force for contraction ratios larger than epsilon_0").
 double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric);
 
+// Eqn. force at one pressure, with everything that depends only on the pressure and the fPAM worked out once
+// (pi P r0^2, 3/tan^2(a0), 1/sin^2(a0), 2 pi E t r0). The free functions below evaluate through it; solvers that
+// evaluate the law many times at one pressure (mount stretching, the plugin) hold one.
+class FpamForceLaw {
+ public:
+  // Validates the inputs (InvalidParameter otherwise).
+  FpamForceLaw(double pressure, const FpamCoefficients& coefficients, const FabricProperties& fabric);
+  // The fPAM's pull [N] at a finite contraction ratio: both terms, never negative.
+  double operator()(double contraction_ratio) const {
+    const double total = pressure_term(contraction_ratio) + elastic_term(contraction_ratio);
+    return total > 0.0 ? total : 0.0;
+  }
+  double pressure_term(double contraction_ratio) const {
+    const double stretch = 1.0 - contraction_ratio;
+    return mckibben_scale_ * (three_over_tan2_ * stretch * stretch - one_over_sin2_);
+  }
+  double elastic_term(double contraction_ratio) const {
+    const double slack = elastic_onset_ - contraction_ratio;
+    return slack > 0.0 ? elastic_slope_ * slack : 0.0;
+  }
+
+ private:
+  double mckibben_scale_;   // pi P r0^2
+  double three_over_tan2_;  // 3 / tan^2(alpha_0)
+  double one_over_sin2_;    // 1 / sin^2(alpha_0)
+  double elastic_slope_;    // 2 pi E t r0
+  double elastic_onset_;    // epsilon_0
+};
+
 // The fPAM's pull [N]: the sum of both terms, never negative (fabric cannot push).
 double fpam_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients,
                   const FabricProperties& fabric);

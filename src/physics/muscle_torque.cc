@@ -13,10 +13,9 @@ void validate(const Muscle& muscle) {
 
 MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure) {
   validate(muscle);
-  const FpamCoefficients coefficients = muscle.fpam.at_pressure(pressure);
-  const auto force_at_length = [&](double length) {
-    return fpam_force(pressure, contraction_ratio(length, muscle.rest_length), coefficients, muscle.fpam.fabric());
-  };
+  const FpamForceLaw force_law(pressure, muscle.fpam.at_pressure(pressure), muscle.fpam.fabric());
+  const double rest_length = muscle.rest_length;
+  const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
   const MusclePath path = muscle_path(muscle.placement, muscle.wrist_radius, joint_angle);
   const StretchedForce stretched =
       solve_mount_stretch(force_at_length, path.length, muscle.mount_stiffness, muscle.stretch_mode);

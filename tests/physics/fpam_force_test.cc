@@ -56,6 +56,22 @@ TEST(FpamForce, EqnForceMatchesClosedFormAtDesignValues) {
   EXPECT_NEAR(fabric_elastic_force(0.0, 0.0123, fabric), 8.57, 0.01);
 }
 
+// FpamForceLaw evaluates Eqn. force from eps_max without trigonometry; it must equal the law written with the fiber
+// angle of Eqn. fiber_orientation, as printed (with Tondu's sign).
+TEST(FpamForceLaw, EqualsTheLawWrittenWithTheFiberAngle) {
+  const FabricProperties fabric;
+  for (const double eps_max : {0.153, 0.2, 0.277, 0.303, 0.4}) {
+    const FpamCoefficients c{.radius = 0.0126, .max_contraction = eps_max};
+    const double a0 = fiber_angle(eps_max);
+    const FpamForceLaw law(103e3, c, fabric);
+    for (double eps = -0.1; eps < 0.45; eps += 0.05) {
+      const double with_angle = pi * 103e3 * c.radius * c.radius *
+                                (3.0 * (1.0 - eps) * (1.0 - eps) / std::pow(std::tan(a0), 2) - 1.0 / std::pow(std::sin(a0), 2));
+      EXPECT_NEAR(law.pressure_term(eps), with_angle, 1e-9 * (1.0 + std::abs(with_angle))) << eps_max << " " << eps;
+    }
+  }
+}
+
 // The reading of Eqn. force's sign (fpam_force.h): the term as printed would push at eps = 0 and push harder as the
 // muscle contracts; Tondu's sign pulls and weakens towards eps_max, as the tensile tests show.
 TEST(FpamForce, PrintedPressureTermSignWouldPushSoWeUseTondusSign) {
