@@ -1,0 +1,88 @@
+#include "sim/device.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "sim/model_builder.h"
+
+namespace softwrist::sim {
+namespace {
+
+std::string read(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+const std::filesystem::path kModels = std::filesystem::path(SOFTWRIST_SOURCE_DIR) / "models";
+
+// The shipped default device is exactly what the code generates, so neither can rot.
+TEST(PaperDevice, ShippedPlacementFileAndModelMatchTheGenerator) {
+  EXPECT_EQ(read(kModels / "paper_device.json"), device_to_json(paper_device()));
+  EXPECT_EQ(read(kModels / "paper_device.xml"), build_model_xml(load_device(kModels / "paper_device.json")));
+}
+
+// Table torque_measurement_parameters for the flexor, Table RoM for the other three.
+TEST(PaperDevice, UsesThePapersTables) {
+  const DeviceDescription d = paper_device();
+  EXPECT_DOUBLE_EQ(d.muscles[kFlexor].placement.d1, 0.1947);
+  EXPECT_DOUBLE_EQ(d.muscles[kFlexor].rest_length, 0.32);
+  EXPECT_DOUBLE_EQ(d.muscles[kFlexor].wrist_radius, 0.0399);
+  EXPECT_DOUBLE_EQ(d.muscles[kExtensor].placement.d1, 0.245);
+  EXPECT_DOUBLE_EQ(d.muscles[kUlnar].placement.d2, 0.010);
+  EXPECT_DOUBLE_EQ(d.muscles[kRadial].rest_length, 0.27);
+  EXPECT_EQ(d.fpam.rows().size(), 5u);
+}
+
+TEST(PlacementFile, RoundTrips) {
+  DeviceDescription d = paper_device();
+  d.fpam = physics::FpamParameters::Constant(0.0123, 0.28);
+  d.stretch_mode = physics::StretchMode::kNone;
+  d.regulator.time_constant = 0.05;
+  const std::string text = device_to_json(d);
+  EXPECT_EQ(device_to_json(parse_device(text, "x.json")), text);
+}
+
+// A malformed placement file is rejected with the file, the field and the problem.
+TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
+  const auto base = nlohmann::json::parse(device_to_json(paper_device()));
+  auto with = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = base;
+    edit(j);
+    return j.dump();
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{", "user.json: not valid JSON"},
+      {"[1,2]", "user.json: (top level): must be a JSON object"},
+      {with([](auto& j) { j["muscles"].erase("ulnar"); }), "user.json: muscles.ulnar: missing"},
+      {with([](auto& j) { j["muscles"]["flexor"].erase("L0_cm"); }), "muscles.flexor.L0_cm: missing"},
+      {with([](auto& j) { j["muscles"]["flexor"]["d1_cm"] = "far"; }), "muscles.flexor.d1_cm: must be a number"},
+      {with([](auto& j) { j["muscles"]["flexor"]["L0_cm"] = -3; }), "muscles.flexor: rest_length"},
+      {with([](auto& j) { j["muscles"]["ulnar"]["rw_cm"] = 4; }), "muscles.ulnar: hand mount distance R2"},
+      {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
+      {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
+      {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
+      {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
+      {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
+      {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
+      {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
+      {with([](auto& j) { j["format"] = "other/2"; }), "format: 'other/2'"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      parse_device(text, "user.json");
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(load_device("/nonexistent/user.json"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace softwrist::sim
