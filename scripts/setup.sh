@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev                   # linear algebra
   libnlopt-cxx-dev                # design optimization
   libglfw3-dev libosmesa6-dev     # interactive viewer, headless rendering
+  libpng-dev                      # PNG output of renders
   libcli11-dev                    # command line
   nlohmann-json3-dev              # JSON configs and results
   libfmt-dev                      # formatting

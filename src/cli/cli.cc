@@ -7,6 +7,7 @@
 #include "cli/arguments.h"
 #include "cli/bench_commands.h"
 #include "cli/model_commands.h"
+#include "cli/render_command.h"
 #include "physics/errors.h"
 
 namespace softwrist::cli {
@@ -20,6 +21,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   app.set_version_flag("--version", SOFTWRIST_VERSION);
   add_model_commands(app, out);
   add_bench_commands(app, out);
+  add_render_command(app, out);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

@@ -1,6 +1,7 @@
 #include "cli/model_commands.h"
 
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -82,6 +83,20 @@ TEST(ModelTables, WritesTheMainJobsFiles) {
   std::filesystem::remove_all(dir);
 }
 
+// `model build` writes a model that loads with the plugin; from a placement file it equals the shipped model.
+TEST(ModelBuild, WritesTheModelOfAPlacementFile) {
+  const auto out = std::filesystem::temp_directory_path() / "softwrist_model_build_test.xml";
+  const auto r = run({"model", "build", "--placement", std::string(SOFTWRIST_SOURCE_DIR) + "/models/paper_device.json",
+                      "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream built(out), shipped(std::string(SOFTWRIST_SOURCE_DIR) + "/models/paper_device.xml");
+  std::stringstream a, b;
+  a << built.rdbuf();
+  b << shipped.rdbuf();
+  EXPECT_EQ(a.str(), b.str());
+  std::filesystem::remove(out);
+}
+
 // Bad arguments: a clear message naming the problem, a non-zero exit, never a crash.
 TEST(ModelCommands, BadArgumentsGiveAClearErrorAndNonZeroExit) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
@@ -101,6 +116,12 @@ TEST(ModelCommands, BadArgumentsGiveAClearErrorAndNonZeroExit) {
       {{"model", "torque", "--fpam-table", "other"}, "--fpam-table"},
       {{"model", "rom", "--flexion", "1,2,3"}, "--flexion"},
       {{"model", "rom", "--rw", "4"}, "R2"},
+      {{"model", "build", "--placement", "/nonexistent.json", "--out", "/tmp/x.xml"}, "--placement"},
+      {{"model", "build"}, "--out"},
+      {{"render", "--pressures-kpa", "200,0,0,0", "--out", "/tmp/x.png"}, "--pressures-kpa"},
+      {{"render", "--pressures-kpa", "1,2", "--out", "/tmp/x.png"}, "--pressures-kpa"},
+      {{"render", "--view", "top", "--out", "/tmp/x.png"}, "--view"},
+      {{"bench", "sim", "--steps", "5"}, "--steps"},
       {{"model", "bogus"}, "subcommand"},
       {{"model"}, "subcommand"},
       {{}, "subcommand"},

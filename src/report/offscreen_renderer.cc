@@ -1,0 +1,120 @@
+#include "report/offscreen_renderer.h"
+
+#include <GL/osmesa.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace softwrist::report {
+
+struct OffscreenRenderer::Impl {
+  const mjModel* model = nullptr;
+  OSMesaContext context = nullptr;
+  std::vector<unsigned char> buffer;  // OSMesa's RGBA framebuffer
+  int width = 0, height = 0;
+  mjvScene scene;
+  mjvOption option;
+  mjrContext render_context;
+};
+
+OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int height) : impl_(std::make_unique<Impl>()) {
+  if (width < 16 || height < 16 || width > 4096 || height > 4096) {
+    throw std::runtime_error(fmt::format("render size {}x{} must be within 16..4096", width, height));
+  }
+  Impl& r = *impl_;
+  r.model = model.get();
+  r.width = width;
+  r.height = height;
+  r.context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  if (r.context == nullptr) throw std::runtime_error("OSMesa could not create a rendering context (is libosmesa6 installed?)");
+  r.buffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
+  if (!OSMesaMakeCurrent(r.context, r.buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
+    OSMesaDestroyContext(r.context);
+    throw std::runtime_error("OSMesa could not make its context current");
+  }
+  mjv_defaultScene(&r.scene);
+  mjv_defaultOption(&r.option);
+  mjr_defaultContext(&r.render_context);
+  mjv_makeScene(r.model, &r.scene, 2000);
+  mjr_makeContext(r.model, &r.render_context, mjFONTSCALE_100);
+  mjr_setBuffer(mjFB_OFFSCREEN, &r.render_context);
+  if (r.render_context.offWidth < width || r.render_context.offHeight < height) {
+    throw std::runtime_error(fmt::format("the model's offscreen buffer ({}x{}) is smaller than {}x{}: raise "
+                                         "<visual><global offwidth offheight>",
+                                         r.render_context.offWidth, r.render_context.offHeight, width, height));
+  }
+}
+
+OffscreenRenderer::~OffscreenRenderer() {
+  mjr_freeContext(&impl_->render_context);
+  mjv_freeScene(&impl_->scene);
+  OSMesaDestroyContext(impl_->context);
+}
+
+Image OffscreenRenderer::Render(const mjData* data, View view, double max_pressure_kpa) {
+  Impl& r = *impl_;
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FREE;
+  camera.lookat[0] = -0.02;
+  camera.distance = 0.62;
+  // The flexion/extension axis is vertical: the radial view looks down it; the palmar view looks along ulnar/radial
+  // deviation's axis at the palm.
+  camera.azimuth = view == View::kRadial ? 90.0 : -90.0;
+  camera.elevation = view == View::kRadial ? -65.0 : -5.0;
+  mjv_updateScene(r.model, const_cast<mjData*>(data), &r.option, nullptr, &camera, mjCAT_ALL, &r.scene);
+  // Each muscle's colour: its regulated pressure from blue (0) to red (max).
+  for (int i = 0; i < r.scene.ngeom; ++i) {
+    mjvGeom& geom = r.scene.geoms[i];
+    if (geom.objtype != mjOBJ_TENDON) continue;
+    for (int u = 0; u < r.model->nu; ++u) {
+      if (r.model->actuator_trntype[u] != mjTRN_TENDON || r.model->actuator_trnid[2 * u] != geom.objid) continue;
+      const int act = u - (r.model->nu - r.model->na);
+      const double pressure = act >= 0 ? data->act[act] : data->ctrl[u];
+      const float s = static_cast<float>(std::clamp(pressure / max_pressure_kpa, 0.0, 1.0));
+      geom.rgba[0] = 0.15f + 0.8f * s;
+      geom.rgba[1] = 0.25f * (1.0f - s);
+      geom.rgba[2] = 0.9f * (1.0f - s);
+      geom.rgba[3] = 1.0f;
+    }
+  }
+  const mjrRect viewport = {0, 0, r.width, r.height};
+  mjr_render(viewport, &r.scene, &r.render_context);
+  Image image{r.width, r.height, std::vector<unsigned char>(static_cast<std::size_t>(r.width * r.height * 3))};
+  std::vector<unsigned char> bottom_up(image.rgb.size());
+  mjr_readPixels(bottom_up.data(), nullptr, viewport, &r.render_context);
+  const std::size_t row = static_cast<std::size_t>(r.width) * 3;
+  for (int y = 0; y < r.height; ++y) {
+    std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(r.height - 1 - y)),
+                row, image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)));
+  }
+  return image;
+}
+
+void write_png(const Image& image, const std::filesystem::path& path) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) throw std::runtime_error(fmt::format("cannot write {}", path.string()));
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  if (png == nullptr || info == nullptr || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(file);
+    throw std::runtime_error(fmt::format("libpng failed writing {}", path.string()));
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) {
+    png_write_row(png, image.rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) * 3);
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fclose(file) != 0) throw std::runtime_error(fmt::format("cannot write {}", path.string()));
+}
+
+}  // namespace softwrist::report

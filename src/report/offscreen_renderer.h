@@ -1,0 +1,44 @@
+#pragma once
+// Headless rendering of the wrist model with OSMesa (no display, no GPU): MuJoCo's own renderer drawing into an
+// OSMesa software context, each muscle coloured by its regulated pressure (blue at 0, red at the regulator's
+// maximum). Cameras like the paper's figures: the radial view for flexion/extension (Fig. Overview d-e), the palmar
+// view for ulnar/radial deviation (Fig. Overview b-c).
+
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "sim/model.h"
+
+namespace softwrist::report {
+
+enum class View { kRadial, kPalmar };
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;  // row-major, top row first
+};
+
+class OffscreenRenderer {
+ public:
+  // Creates the OSMesa context and MuJoCo's rendering context. Throws std::runtime_error with a clear message when
+  // OSMesa cannot create a context.
+  OffscreenRenderer(const sim::Model& model, int width, int height);
+  ~OffscreenRenderer();
+  OffscreenRenderer(const OffscreenRenderer&) = delete;
+  OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
+
+  // Renders the state in `data` (positions and activations as they are; call mj_forward first).
+  Image Render(const mjData* data, View view, double max_pressure_kpa);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Writes an 8-bit RGB PNG (libpng). Throws std::runtime_error naming the file on failure.
+void write_png(const Image& image, const std::filesystem::path& path);
+
+}  // namespace softwrist::report

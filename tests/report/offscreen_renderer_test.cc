@@ -1,0 +1,66 @@
+#include "report/offscreen_renderer.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "physics/units.h"
+#include "sim/device.h"
+#include "sim/model_builder.h"
+
+namespace softwrist::report {
+namespace {
+
+struct Counts {
+  int red = 0, blue = 0, distinct_rows = 0;
+};
+Counts count(const Image& image) {
+  Counts c;
+  for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+    const int r = image.rgb[i], g = image.rgb[i + 1], b = image.rgb[i + 2];
+    if (r > 150 && g < 90 && b < 110) ++c.red;
+    if (b > 150 && r < 110 && g < 140) ++c.blue;
+  }
+  return c;
+}
+
+Image render(double flexor_kpa, double others_kpa, View view) {
+  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(sim::paper_device()), sim::PluginSet::Default());
+  const sim::Data data = sim::make_data(model);
+  data->qpos[0] = units::deg_to_rad(20.0);
+  data->act[0] = flexor_kpa;
+  for (int i = 1; i < 4; ++i) data->act[i] = others_kpa;
+  mj_forward(model.get(), data.get());
+  OffscreenRenderer renderer(model, 320, 240);
+  return renderer.Render(data.get(), view, 137.0);
+}
+
+// The muscles are drawn, coloured by their pressure: one muscle at 137 kPa shows red pixels among blue ones, all at
+// 0 kPa shows no red, all at 137 kPa no blue.
+TEST(OffscreenRenderer, MusclesAreColouredByPressure) {
+  const Counts one = count(render(137.0, 0.0, View::kRadial));
+  EXPECT_GT(one.red, 30);
+  EXPECT_GT(one.blue, 30);
+  const Counts none = count(render(0.0, 0.0, View::kPalmar));
+  EXPECT_EQ(none.red, 0);
+  EXPECT_GT(none.blue, 30);
+  const Counts all = count(render(137.0, 137.0, View::kPalmar));
+  EXPECT_EQ(all.blue, 0);
+  EXPECT_GT(all.red, 30);
+}
+
+TEST(OffscreenRenderer, WritesAPng) {
+  const auto path = std::filesystem::temp_directory_path() / "softwrist_render_test.png";
+  write_png(render(100.0, 20.0, View::kRadial), path);
+  std::ifstream file(path, std::ios::binary);
+  char magic[8] = {};
+  file.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_GT(std::filesystem::file_size(path), 1000u);
+  std::filesystem::remove(path);
+  EXPECT_THROW(write_png(render(0, 0, View::kRadial), "/nonexistent/dir/x.png"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace softwrist::report
