@@ -3,6 +3,7 @@
 #include "sim/model.h"
 
 #include <cmath>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -146,6 +147,33 @@ TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
     for (int i = 0; i < sim.model->nq; ++i) ASSERT_TRUE(std::isfinite(sim.data->qpos[i])) << corner;
     for (int i = 0; i < sim.model->nu; ++i) ASSERT_TRUE(std::isfinite(sim.data->actuator_force[i])) << corner;
   }
+}
+
+// Threads stepping different mjData of the same model, and of a second model, give exactly the sequential result:
+// the plugin's instances are immutable and its per-step state lives in mjData.
+TEST(ModelThreads, ConcurrentSteppingMatchesSequential) {
+  DeviceDescription other = paper_device();
+  other.stretch_mode = physics::StretchMode::kOneShot;
+  const Model a = Model::FromXml(build_model_xml(paper_device()), plugins());
+  const Model b = Model::FromXml(build_model_xml(other), plugins());
+  auto run = [](const Model& model, double kpa) {
+    Data data = make_data(model);
+    for (int step = 0; step < 3000; ++step) {
+      data->ctrl[kFlexor] = (step / 500) % 2 ? kpa : 10.0;
+      data->ctrl[kExtensor] = (step / 500) % 2 ? 10.0 : kpa;
+      mj_step(model.get(), data.get());
+    }
+    return std::array<double, 2>{data->qpos[0], data->qpos[1]};
+  };
+  const auto expected_a = run(a, 120.0), expected_b = run(b, 90.0);
+  std::array<std::array<double, 2>, 4> results{};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] { results[static_cast<std::size_t>(t)] = t % 2 ? run(b, 90.0) : run(a, 120.0); });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(results[static_cast<std::size_t>(t)], t % 2 ? expected_b : expected_a) << t;
+  EXPECT_NE(expected_a, expected_b);
 }
 
 // A malformed model or plugin configuration fails at load, naming the actuator and the attribute.
