@@ -12,6 +12,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   build_dir=build/asan
   options+=(-DSOFTWRIST_SANITIZE=ON)
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+  export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"  # Mesa's own leaks only
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 elif [ -n "${1:-}" ]; then
   echo "usage: $0 [--sanitize]" >&2

@@ -1,6 +1,5 @@
 #include "physics/fpam_force.h"
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 

@@ -61,14 +61,13 @@ Model Model::FromXml(const std::string& xml, const PluginSet& plugins, const std
   if (raw == nullptr) throw std::runtime_error(fmt::format("{}: {}", source_name, error.data()));
 
   Model model;
-  const PluginSet* set = &plugins;
   // The libraries outlive every model (never unloaded); the deleter detaches before freeing.
   std::vector<PluginLibrary> libraries = plugins.libraries();
   model.model_ = std::shared_ptr<mjModel>(raw, [libraries](mjModel* m) {
     for (const auto& library : libraries) library.Detach(m);
     mj_deleteModel(m);
   });
-  check_plugin_names(raw, *set, source_name);
+  check_plugin_names(raw, plugins, source_name);
   for (const auto& library : plugins.libraries()) {
     try {
       library.Attach(raw);
