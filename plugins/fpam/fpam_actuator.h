@@ -56,12 +56,6 @@ class FpamActuator {
   // non-finite input (a diverged simulation must not throw through MuJoCo's C code).
   double Force(double tendon_length, double regulated_kpa) const;
 
-  double rest_length() const { return rest_length_; }
-  double max_pressure_kpa() const { return max_pressure_kpa_; }
-  double time_constant() const { return time_constant_; }
-  physics::StretchMode stretch_mode() const { return stretch_mode_; }
-  const physics::FpamParameters& fpam() const { return fpam_; }
-  const physics::MountStiffness& mount_stiffness() const { return mount_stiffness_; }
 
  private:
   FpamActuator(physics::FpamParameters fpam) : fpam_(std::move(fpam)) {}

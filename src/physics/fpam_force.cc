@@ -31,7 +31,7 @@ FpamForceLaw::FpamForceLaw(double pressure, const FpamCoefficients& coefficients
   mckibben_scale_ = std::numbers::pi * pressure * r0 * r0;
   three_over_tan2_ = 3.0 * cos2 / sin2;
   one_over_sin2_ = 1.0 / sin2;
-  elastic_slope_ = 2.0 * std::numbers::pi * fabric.elastic_modulus * fabric.thickness * r0;
+  elastic_slope_ = fabric_elastic_slope(r0, fabric);
   elastic_onset_ = fabric.elastic_onset_contraction;
 }
 
@@ -42,9 +42,7 @@ double pressure_force(double pressure, double contraction_ratio, const FpamCoeff
 
 double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric) {
   require_finite("contraction_ratio", contraction_ratio);
-  const double slack = fabric.elastic_onset_contraction - contraction_ratio;
-  if (slack <= 0.0) return 0.0;
-  return 2.0 * std::numbers::pi * fabric.elastic_modulus * fabric.thickness * slack * radius;
+  return fabric_elastic_term(contraction_ratio, fabric_elastic_slope(radius, fabric), fabric.elastic_onset_contraction);
 }
 
 double fpam_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients,

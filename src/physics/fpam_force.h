@@ -10,6 +10,8 @@
 // eps = 0 to zero at eps_max). We use Tondu's sign: an fPAM pulls, and its pull falls to zero at eps_max.
 // Eqn. fiber_orientation (F = 0 at eps_max) is the same under either sign, so it is used as printed.
 
+#include <numbers>
+
 #include "physics/fpam_parameters.h"
 
 namespace softwrist::physics {
@@ -28,6 +30,15 @@ double pressure_force(double pressure, double contraction_ratio, const FpamCoeff
 // (Section fPAM force modeling: "We assign zero elastic force for contraction ratios larger than epsilon_0").
 double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric);
 
+// The same term with its slope 2 pi E t r0 precomputed; the one implementation both callers use.
+inline double fabric_elastic_term(double contraction_ratio, double elastic_slope, double elastic_onset) {
+  const double slack = elastic_onset - contraction_ratio;
+  return slack > 0.0 ? elastic_slope * slack : 0.0;
+}
+inline double fabric_elastic_slope(double radius, const FabricProperties& fabric) {
+  return 2.0 * std::numbers::pi * fabric.elastic_modulus * fabric.thickness * radius;
+}
+
 // Eqn. force at one pressure, with everything that depends only on the pressure and the fPAM worked out once
 // (pi P r0^2, 3/tan^2(a0), 1/sin^2(a0), 2 pi E t r0). The free functions below evaluate through it; solvers that
 // evaluate the law many times at one pressure (mount stretching, the plugin) hold one.
@@ -45,8 +56,7 @@ class FpamForceLaw {
     return mckibben_scale_ * (three_over_tan2_ * stretch * stretch - one_over_sin2_);
   }
   double elastic_term(double contraction_ratio) const {
-    const double slack = elastic_onset_ - contraction_ratio;
-    return slack > 0.0 ? elastic_slope_ * slack : 0.0;
+    return fabric_elastic_term(contraction_ratio, elastic_slope_, elastic_onset_);
   }
 
  private:

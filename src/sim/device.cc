@@ -1,9 +1,7 @@
 #include "sim/device.h"
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -11,6 +9,7 @@
 
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
+#include "sim/text_file.h"
 
 namespace softwrist::sim {
 namespace {
@@ -217,9 +216,9 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   if (top.has("hand")) {
     Reader h = top.child("hand");
     device.hand.mass = h.positive("mass_kg", device.hand.mass);
-    device.hand.com_distance = h.positive("com_distance_cm", m_to_cm(device.hand.com_distance)) / 100.0;
-    device.hand.radius_of_gyration = h.positive("radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)) / 100.0;
-    device.hand.length = h.positive("length_cm", m_to_cm(device.hand.length)) / 100.0;
+    device.hand.com_distance = cm_to_m(h.positive("com_distance_cm", m_to_cm(device.hand.com_distance)));
+    device.hand.radius_of_gyration = cm_to_m(h.positive("radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)));
+    device.hand.length = cm_to_m(h.positive("length_cm", m_to_cm(device.hand.length)));
     h.finish();
   }
   top.finish();
@@ -227,11 +226,7 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
 }
 
 DeviceDescription load_device(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
-  std::stringstream text;
-  text << file.rdbuf();
-  return parse_device(text.str(), path.string());
+  return parse_device(read_text_file(path), path.string());
 }
 
 std::string device_to_json(const DeviceDescription& device) {

@@ -2,13 +2,12 @@
 
 #include <array>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "plugin_config.h"
+#include "sim/text_file.h"
 
 namespace softwrist::sim {
 namespace {
@@ -79,11 +78,7 @@ Model Model::FromXml(const std::string& xml, const PluginSet& plugins, const std
 }
 
 Model Model::FromFile(const std::filesystem::path& path, const PluginSet& plugins) {
-  std::ifstream file(path);
-  if (!file) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
-  std::stringstream text;
-  text << file.rdbuf();
-  return FromXml(text.str(), plugins, path.string());
+  return FromXml(read_text_file(path), plugins, path.string());
 }
 
 int Model::id(mjtObj type, const std::string& name) const {

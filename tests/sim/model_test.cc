@@ -176,6 +176,17 @@ TEST(ModelThreads, ConcurrentSteppingMatchesSequential) {
   EXPECT_NE(expected_a, expected_b);
 }
 
+TEST(ModelLoad, FromFileLoadsTheShippedModelAndNamesAMissingFile) {
+  const Model model = Model::FromFile(std::string(SOFTWRIST_SOURCE_DIR) + "/models/paper_device.xml", plugins());
+  EXPECT_EQ(model->nu, 4);
+  try {
+    Model::FromFile("/nonexistent/wrist.xml", plugins());
+    ADD_FAILURE();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/wrist.xml: cannot open"), std::string::npos) << e.what();
+  }
+}
+
 // A malformed model or plugin configuration fails at load, naming the actuator and the attribute.
 TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
   const std::string xml = build_model_xml(paper_device());

@@ -1,0 +1,17 @@
+#include "sim/text_file.h"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace softwrist::sim {
+
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error(path.string() + ": cannot open");
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+}  // namespace softwrist::sim
