@@ -13,7 +13,11 @@ void validate(const Muscle& muscle) {
 
 MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure) {
   validate(muscle);
-  const FpamForceLaw force_law(pressure, muscle.fpam.at_pressure(pressure), muscle.fpam.fabric());
+  return muscle_state(muscle, FpamForceLaw(pressure, muscle.fpam.at_pressure(pressure), muscle.fpam.fabric()),
+                      joint_angle);
+}
+
+MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle) {
   const double rest_length = muscle.rest_length;
   const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
   const MusclePath path = muscle_path(muscle.placement, muscle.wrist_radius, joint_angle);

@@ -3,6 +3,7 @@
 // (MuscleState), combining the force law (fpam_force.h), the path geometry (torque_geometry.h) and the mounting-
 // point stretching (mount_stretch.h).
 
+#include "physics/fpam_force.h"
 #include "physics/fpam_parameters.h"
 #include "physics/mount_stretch.h"
 #include "physics/torque_geometry.h"
@@ -33,6 +34,9 @@ struct MuscleState {
 
 // The muscle at `joint_angle` [rad] (positive in its own direction, see torque_geometry.h) and `pressure` [Pa].
 MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure);
+// The same with the force law already prepared for one pressure from this muscle's fPAM, for loops over many angles
+// or placements at that pressure (the design optimization). The muscle must have been validated.
+MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle);
 
 // Section Parameter optimization: "the initial, fully stretched length of the fPAM should be the shortest length
 // that still allows the user to reach the full range of motion in the direction that stretches the muscle",

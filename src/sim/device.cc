@@ -9,7 +9,8 @@
 
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
-#include "sim/text_file.h"
+#include "io/json_reader.h"
+#include "io/text_file.h"
 
 namespace softwrist::sim {
 namespace {
@@ -20,63 +21,7 @@ using units::m_to_cm;
 
 constexpr const char* kFormat = "softwrist.placement/1";
 
-// Reads one JSON object, field by field, with errors that name the source and the field's path.
-class Reader {
- public:
-  Reader(const json& object, std::string source, std::string path)
-      : object_(object), source_(std::move(source)), path_(std::move(path)) {
-    if (!object_.is_object()) fail("", "must be a JSON object");
-  }
-  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    const std::string field = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
-    throw std::runtime_error(fmt::format("{}: {}: {}", source_, field.empty() ? "(top level)" : field, problem));
-  }
-  bool has(const std::string& key) const { return object_.contains(key); }
-  double number(const std::string& key) {
-    seen_.insert(key);
-    if (!object_.contains(key)) fail(key, "missing");
-    const json& value = object_.at(key);
-    if (!value.is_number()) fail(key, "must be a number");
-    const double number = value.get<double>();
-    if (!std::isfinite(number)) fail(key, "must be finite");
-    return number;
-  }
-  double number(const std::string& key, double fallback) { return has(key) ? number(key) : (seen_.insert(key), fallback); }
-  double positive(const std::string& key, double fallback) {
-    const double v = number(key, fallback);
-    if (!(v > 0.0)) fail(key, fmt::format("must be > 0, got {}", v));
-    return v;
-  }
-  std::string text(const std::string& key, const std::string& fallback) {
-    seen_.insert(key);
-    if (!object_.contains(key)) return fallback;
-    if (!object_.at(key).is_string()) fail(key, "must be a string");
-    return object_.at(key).get<std::string>();
-  }
-  Reader child(const std::string& key) {
-    seen_.insert(key);
-    if (!object_.contains(key)) fail(key, "missing");
-    return Reader(object_.at(key), source_, path_.empty() ? key : path_ + "." + key);
-  }
-  const json& raw(const std::string& key) {
-    seen_.insert(key);
-    if (!object_.contains(key)) fail(key, "missing");
-    return object_.at(key);
-  }
-  // Rejects keys this reader never asked for: a misspelt field must not be silently ignored.
-  void finish() const {
-    for (const auto& [key, value] : object_.items()) {
-      if (!seen_.contains(key)) fail(key, "unknown field");
-    }
-  }
-  const std::string& source() const { return source_; }
-  const std::string& path() const { return path_; }
-
- private:
-  const json& object_;
-  std::string source_, path_;
-  std::set<std::string> seen_;
-};
+using Reader = io::JsonReader;
 
 physics::FpamParameters read_fpam(Reader fpam) {
   if (fpam.has("table")) {
@@ -145,12 +90,7 @@ DeviceDescription paper_device() {
 }
 
 DeviceDescription parse_device(const std::string& json_text, const std::string& source_name) {
-  json root;
-  try {
-    root = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", source_name, e.what()));
-  }
+  const json root = io::parse_json(json_text, source_name);
   Reader top(root, source_name, "");
   if (const std::string format = top.text("format", kFormat); format != kFormat) {
     top.fail("format", fmt::format("'{}' is not '{}'", format, kFormat));
@@ -226,7 +166,7 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
 }
 
 DeviceDescription load_device(const std::filesystem::path& path) {
-  return parse_device(read_text_file(path), path.string());
+  return parse_device(io::read_text_file(path), path.string());
 }
 
 std::string device_to_json(const DeviceDescription& device) {

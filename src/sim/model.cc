@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "plugin_config.h"
-#include "sim/text_file.h"
+#include "io/text_file.h"
 
 namespace softwrist::sim {
 namespace {
@@ -78,7 +78,7 @@ Model Model::FromXml(const std::string& xml, const PluginSet& plugins, const std
 }
 
 Model Model::FromFile(const std::filesystem::path& path, const PluginSet& plugins) {
-  return FromXml(read_text_file(path), plugins, path.string());
+  return FromXml(io::read_text_file(path), plugins, path.string());
 }
 
 int Model::id(mjtObj type, const std::string& name) const {

@@ -1,10 +1,10 @@
-#include "sim/text_file.h"
+#include "io/text_file.h"
 
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-namespace softwrist::sim {
+namespace softwrist::io {
 
 std::string read_text_file(const std::filesystem::path& path) {
   std::ifstream file(path);
@@ -14,4 +14,4 @@ std::string read_text_file(const std::filesystem::path& path) {
   return text.str();
 }
 
-}  // namespace softwrist::sim
+}  // namespace softwrist::io

@@ -1,0 +1,58 @@
+#pragma once
+// Comma-separated tables with a header row: the reference torque profiles, the trial logs and the files users
+// import. Reading is strict: every row has the header's number of cells, and every error names the file, the line
+// and the column, so a bad row from another lab's spreadsheet is found, not silently skipped.
+
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace softwrist::io {
+
+class CsvTable {
+ public:
+  // Parses `text`. Blank lines and lines starting with '#' are skipped; cells are trimmed; quoting is not
+  // supported (a '"' is an error). Throws std::runtime_error("<source>:<line>: <problem>").
+  static CsvTable Parse(const std::string& text, const std::string& source);
+  static CsvTable Read(const std::filesystem::path& path);
+
+  const std::string& source() const { return source_; }
+  const std::vector<std::string>& header() const { return header_; }
+  std::size_t row_count() const { return rows_.size(); }
+  int line_of(std::size_t row) const { return lines_[row]; }
+
+  // Index of the named column, or -1.
+  int find_column(std::string_view name) const;
+  // Index of the named column; throws "<source>: missing column '<name>' (columns: ...)".
+  int column(std::string_view name) const;
+  const std::string& cell(std::size_t row, int column) const { return rows_[row][column]; }
+  // The cell as a finite number; throws "<source>:<line>: <column>: <problem>: '<cell>'".
+  double number(std::size_t row, int column) const;
+
+ private:
+  std::string source_;
+  std::vector<std::string> header_;
+  std::vector<std::vector<std::string>> rows_;
+  std::vector<int> lines_;
+};
+
+// Writes a CSV row by row, flushing each row so that a killed process leaves every written row readable.
+class CsvWriter {
+ public:
+  CsvWriter(const std::filesystem::path& path, std::vector<std::string> header);
+  void write_row(const std::vector<std::string>& cells);
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  std::size_t columns_;
+  std::ofstream file_;
+};
+
+// Shortest text that reads back to the same double (std::to_chars), for data files.
+std::string format_number(double value);
+
+}  // namespace softwrist::io

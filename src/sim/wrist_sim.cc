@@ -1,0 +1,60 @@
+#include "sim/wrist_sim.h"
+
+#include <stdexcept>
+
+namespace softwrist::sim {
+
+WristJoint joint_of(MuscleIndex muscle) {
+  return muscle == kFlexor || muscle == kExtensor ? WristJoint::kFlexionExtension : WristJoint::kUlnarRadial;
+}
+
+double direction_of(MuscleIndex muscle) { return muscle == kFlexor || muscle == kUlnar ? 1.0 : -1.0; }
+
+WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) {
+  const char* names[2] = {"wrist_fe", "wrist_ur"};
+  for (int j = 0; j < 2; ++j) {
+    const int joint = model.id(mjOBJ_JOINT, names[j]);
+    qpos_address_[j] = model->jnt_qposadr[joint];
+    dof_address_[j] = model->jnt_dofadr[joint];
+  }
+  if (model->nu != 4 || model->na != 4) throw std::runtime_error("wrist model: expected four fPAM actuators");
+  reset();
+}
+
+void WristSim::reset() { mj_resetData(model_.get(), data_.get()); mj_forward(model_.get(), data_.get()); }
+
+void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa) {
+  for (int i = 0; i < 4; ++i) data_->ctrl[i] = pressures_kpa[static_cast<std::size_t>(i)];
+}
+
+void WristSim::run(double duration) {
+  const double end = data_->time + duration - 0.5 * model_->opt.timestep;
+  while (data_->time < end) mj_step(model_.get(), data_.get());
+}
+
+void WristSim::hold(double fe, double ur) {
+  data_->qpos[qpos_address_[0]] = fe;
+  data_->qpos[qpos_address_[1]] = ur;
+  data_->qvel[dof_address_[0]] = 0.0;
+  data_->qvel[dof_address_[1]] = 0.0;
+}
+
+void WristSim::run_held(double duration, double fe, double ur) {
+  const double end = data_->time + duration - 0.5 * model_->opt.timestep;
+  while (data_->time < end) {
+    hold(fe, ur);
+    mj_step(model_.get(), data_.get());
+  }
+  hold(fe, ur);
+  mj_forward(model_.get(), data_.get());
+}
+
+double WristSim::angle(WristJoint joint) const { return data_->qpos[qpos_address_[static_cast<int>(joint)]]; }
+double WristSim::velocity(WristJoint joint) const { return data_->qvel[dof_address_[static_cast<int>(joint)]]; }
+
+double WristSim::muscle_torque(MuscleIndex muscle) const {
+  const int dof = dof_address_[static_cast<int>(joint_of(muscle))];
+  return direction_of(muscle) * data_->actuator_force[muscle] * data_->actuator_moment[muscle * model_->nv + dof];
+}
+
+}  // namespace softwrist::sim

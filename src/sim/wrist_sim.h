@@ -1,0 +1,52 @@
+#pragma once
+// One simulated wrist: a loaded model and its own mjData, with the operations the experiments need in the paper's
+// terms (pressures in kPa at the edge, wrist angles with flexion and ulnar deviation positive). One WristSim per
+// thread; several may share a Model.
+
+#include <array>
+
+#include "sim/device.h"
+#include "sim/model.h"
+
+namespace softwrist::sim {
+
+enum class WristJoint { kFlexionExtension, kUlnarRadial };
+
+// The joint a muscle moves and the sign of its own direction on it: flexor +FE, extensor -FE, ulnar +UR, radial -UR.
+WristJoint joint_of(MuscleIndex muscle);
+double direction_of(MuscleIndex muscle);
+
+class WristSim {
+ public:
+  explicit WristSim(const Model& model);
+
+  // Back to the neutral wrist at rest, all pressures zero, time zero.
+  void reset();
+  // Commanded pressures [kPa] of flexor, extensor, ulnar, radial (the regulators follow with their lag).
+  void command_pressures_kpa(const std::array<double, 4>& pressures_kpa);
+  // Advances `duration` [s] of free motion.
+  void run(double duration);
+  // Advances `duration` [s] with the wrist held at (fe, ur) [rad], as on the torque rig: the regulators fill the
+  // muscles while the joints stay put.
+  void run_held(double duration, double fe, double ur);
+
+  double time() const { return data_->time; }
+  double angle(WristJoint joint) const;     // [rad]
+  double velocity(WristJoint joint) const;  // [rad/s]
+  double regulated_pressure_kpa(MuscleIndex muscle) const { return data_->act[muscle]; }
+  // The torque one muscle applies about its joint, positive in its own direction [N m] (its share of
+  // qfrc_actuator: force times moment arm).
+  double muscle_torque(MuscleIndex muscle) const;
+
+  const mjModel* model() const { return model_.get(); }
+  mjData* data() { return data_.get(); }
+
+ private:
+  void hold(double fe, double ur);
+  const Model& model_;
+  Data data_;
+  std::array<int, 2> qpos_address_{};  // FE, UR
+  std::array<int, 2> dof_address_{};
+};
+
+}  // namespace softwrist::sim
