@@ -8,6 +8,7 @@
 #include "cli/bench_commands.h"
 #include "cli/model_commands.h"
 #include "cli/render_command.h"
+#include "cli/run_commands.h"
 #include "physics/errors.h"
 
 namespace softwrist::cli {
@@ -22,6 +23,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_model_commands(app, out);
   add_bench_commands(app, out);
   add_render_command(app, out);
+  add_run_commands(app, out, err);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

@@ -382,16 +382,24 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
   build->add_option("--out", build_options->out, "Output MJCF file")->required();
   build->callback([build_options, &out] { run_build(*build_options, out); });
 
-  auto placement_out = std::make_shared<std::string>();
-  auto* placement = model->add_subcommand("placement", "Write the paper's device as a placement file, a starting "
-                                                       "point for a personalised one");
-  placement->add_option("--out", *placement_out, "Output file; default: print");
-  placement->callback([placement_out, &out] {
-    const std::string text = sim::device_to_json(sim::paper_device());
-    if (placement_out->empty()) {
+  struct PlacementOptions {
+    std::string out;
+    std::string device = "paper";
+  };
+  auto placement_options = std::make_shared<PlacementOptions>();
+  auto* placement = model->add_subcommand("placement", "Write one of the paper's devices as a placement file, a "
+                                                       "starting point for a personalised one");
+  placement->add_option("--out", placement_options->out, "Output file; default: print");
+  placement->add_option("--device", placement_options->device,
+                        "paper: the torque-rig flexor with the Table RoM muscles; rom: all four Table RoM muscles")
+      ->check(CLI::IsMember({"paper", "rom"}));
+  placement->callback([placement_options, &out] {
+    const std::string text =
+        sim::device_to_json(placement_options->device == "rom" ? sim::rom_device() : sim::paper_device());
+    if (placement_options->out.empty()) {
       out << text;
     } else {
-      write_file(*placement_out, text);
+      write_file(placement_options->out, text);
     }
   });
 }

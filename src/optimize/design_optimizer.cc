@@ -39,6 +39,16 @@ nlopt::algorithm algorithm_named(const std::string& name) {
 
 }  // namespace
 
+void validate(const OptimizerOptions& options) {
+  (void)algorithm_named(options.algorithm);
+  const auto r = to_array(options.start_resolution);
+  for (double step : r) {
+    if (!(step > 0.0)) throw physics::InvalidParameter("start resolution must be positive");
+  }
+  if (!(options.x_tolerance > 0.0)) throw physics::InvalidParameter("x tolerance must be positive");
+  if (options.max_evaluations < 1) throw physics::InvalidParameter("max evaluations must be at least 1");
+}
+
 std::vector<Placement> start_grid(const PlacementBounds& bounds, const Placement& resolution) {
   std::vector<Placement> grid;
   for (double d1 : axis_values(bounds.lower.d1, bounds.upper.d1, resolution.d1)) {

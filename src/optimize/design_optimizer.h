@@ -20,6 +20,9 @@ struct OptimizerOptions {
   int jobs = 1;                          // threads
 };
 
+// Throws physics::InvalidParameter for an unknown algorithm or a non-positive resolution or tolerance.
+void validate(const OptimizerOptions& options);
+
 struct LocalSolution {
   physics::Placement start;
   physics::Placement placement;

@@ -165,6 +165,18 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   return device;
 }
 
+DeviceDescription rom_device() {
+  DeviceDescription device{.muscles = {}, .fpam = physics::paper::rom_fpam()};
+  for (std::size_t i = 0; i < device.muscles.size(); ++i) {
+    const auto& entry = physics::paper::rom_table()[i];
+    device.muscles[i] = {entry.placement, entry.rest_length, physics::paper::kRomWristRadius};
+  }
+  device.stretch_mode = physics::StretchMode::kSelfConsistent;
+  device.mount_stiffness =
+      physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent).mount_stiffness;
+  return device;
+}
+
 DeviceDescription load_device(const std::filesystem::path& path) {
   return parse_device(io::read_text_file(path), path.string());
 }

@@ -69,6 +69,10 @@ struct DeviceDescription {
 // extensor, ulnar and radial muscles of Table RoM (r_w = 2 cm, the user's wrist), the fPAM of Table
 // tensile_testing_parameters, self-consistent stretching.
 DeviceDescription paper_device();
+// The range-of-motion device: all four muscles of Table RoM (placements and measured L0) on the user's 2 cm wrist,
+// the 137 kPa fPAM of Section Range of motion, and the torque rig's mount stiffness (Table
+// torque_measurement_parameters, the only K the paper measured) with self-consistent stretching.
+DeviceDescription rom_device();
 
 // Reads a placement file. Errors throw std::runtime_error("<file>: <field>: <problem>").
 DeviceDescription load_device(const std::filesystem::path& path);

@@ -25,6 +25,7 @@ const std::filesystem::path kModels = std::filesystem::path(SOFTWRIST_SOURCE_DIR
 TEST(PaperDevice, ShippedPlacementFileAndModelMatchTheGenerator) {
   EXPECT_EQ(read(kModels / "paper_device.json"), device_to_json(paper_device()));
   EXPECT_EQ(read(kModels / "paper_device.xml"), build_model_xml(load_device(kModels / "paper_device.json")));
+  EXPECT_EQ(read(kModels / "rom_device.json"), device_to_json(rom_device()));
 }
 
 // Table torque_measurement_parameters for the flexor, Table RoM for the other three.

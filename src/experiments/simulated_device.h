@@ -1,0 +1,25 @@
+#pragma once
+// The device an experiment simulates: the placement file's description, the MuJoCo model generated from it with
+// the fPAM plugin loaded, and the hash of that model for the log's provenance.
+
+#include <filesystem>
+#include <string>
+
+#include "sim/device.h"
+#include "sim/model.h"
+#include "sim/plugins.h"
+
+namespace softwrist::experiments {
+
+struct SimulatedDevice {
+  explicit SimulatedDevice(const std::filesystem::path& placement_file);
+  explicit SimulatedDevice(const sim::DeviceDescription& description);
+
+  sim::DeviceDescription description;
+  std::string model_xml;
+  sim::PluginSet plugins;  // declared before the model: the model detaches from them when freed
+  sim::Model model;
+  std::string model_hash;
+};
+
+}  // namespace softwrist::experiments

@@ -1,0 +1,26 @@
+#pragma once
+// The relaxed wrist's statics in the analytic model: where one pressurised muscle holds the wrist once everything
+// else that acts in the simulation is accounted for. It explains the difference between the paper's modeled joint
+// limit (where the muscle's torque reaches zero, range_of_motion.h) and where the simulated or real wrist settles.
+
+#include "sim/device.h"
+
+namespace softwrist::sim {
+
+// The torques about a muscle's joint at `angle` [rad] in its own direction, positive in that direction [N m].
+struct StaticTorques {
+  double muscle = 0.0;      // the pressurised muscle (with the device's mount stretching)
+  double antagonist = 0.0;  // its deflated antagonist's fabric elasticity (<= 0)
+  double passive = 0.0;     // the relaxed wrist's stiffness (PassiveWrist)
+  double gravity = 0.0;     // the hand's weight: ulnar/radial moves the hand in the vertical plane of the model
+  double net() const { return muscle + antagonist + passive + gravity; }
+};
+
+StaticTorques static_torques(const DeviceDescription& device, MuscleIndex muscle, double pressure, double angle,
+                             double gravity = 9.81);
+
+// The angle [rad, own direction] where the net static torque crosses zero between 0 and the joint's biological
+// limit in that direction (the limit itself if the muscle still pushes there).
+double settled_angle(const DeviceDescription& device, MuscleIndex muscle, double pressure, double gravity = 9.81);
+
+}  // namespace softwrist::sim
