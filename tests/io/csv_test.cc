@@ -1,0 +1,63 @@
+// Strict CSV reading: every problem is reported with the file, the line and the column.
+
+#include "io/csv.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace softwrist::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string error_of(const std::string& text, const std::string& column = "torque_nm") {
+  try {
+    const CsvTable table = CsvTable::Parse(text, "ref.csv");
+    const int c = table.column(column);
+    for (std::size_t row = 0; row < table.row_count(); ++row) (void)table.number(row, c);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CsvTable, ReadsNumbersSkippingCommentsAndBlankLines) {
+  const CsvTable table = CsvTable::Parse("# comment\nangle_deg, torque_nm\n\n-67.5, 3.75\n+0,1e-1\n", "ref.csv");
+  ASSERT_EQ(table.row_count(), 2u);
+  EXPECT_EQ(table.column("torque_nm"), 1);
+  EXPECT_EQ(table.number(0, 0), -67.5);
+  EXPECT_EQ(table.number(1, 1), 0.1);
+  EXPECT_EQ(table.line_of(1), 5);
+  EXPECT_EQ(table.find_column("pressure_kpa"), -1);
+}
+
+TEST(CsvTable, BadInputIsNamedByFileLineAndColumn) {
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2\n3,abc\n"), HasSubstr("ref.csv:3: torque_nm: not a number: 'abc'"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,nan\n"), HasSubstr("ref.csv:2: torque_nm: not a finite number"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,inf\n"), HasSubstr("ref.csv:2: torque_nm: not a finite number"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,\n"), HasSubstr("ref.csv:2: torque_nm: empty cell"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2,3\n"), HasSubstr("ref.csv:2: expected 2 cells, found 3"));
+  EXPECT_THAT(error_of("angle_deg,torque\n1,2\n"), HasSubstr("ref.csv: missing column 'torque_nm' (columns: angle_deg, torque)"));
+  EXPECT_THAT(error_of("angle_deg,angle_deg\n"), HasSubstr("appears twice"));
+  EXPECT_THAT(error_of("angle_deg,\"torque_nm\"\n"), HasSubstr("ref.csv:1: quoted cells"));
+  EXPECT_THAT(error_of(""), HasSubstr("ref.csv: empty file"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2x\n"), HasSubstr("not a number"));
+}
+
+TEST(CsvWriter, RoundTripsNumbersExactly) {
+  const auto path = std::filesystem::temp_directory_path() / "softwrist_csv_test.csv";
+  {
+    CsvWriter writer(path, {"a", "b"});
+    writer.write_row({format_number(0.1), format_number(-1.0 / 3.0)});
+  }
+  const CsvTable table = CsvTable::Read(path);
+  EXPECT_EQ(table.number(0, 0), 0.1);
+  EXPECT_EQ(table.number(0, 1), -1.0 / 3.0);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace softwrist::io
