@@ -9,6 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/arguments.h"
+#include "experiments/design_optimization.h"
+#include "experiments/experiment.h"
+#include "physics/units.h"
 #include "sim/device.h"
 #include "sim/model.h"
 #include "sim/model_builder.h"
@@ -73,6 +76,78 @@ int run_sim_bench(const SimBenchOptions& options, std::ostream& out) {
   return 0;
 }
 
+struct OptimizeBenchOptions {
+  std::string config = "experiments/design_optimization.json";
+  int jobs = 2;
+  double exhaustive_resolution_cm = 0.25;
+  bool json = false;
+};
+
+nlohmann::json placement_cm(const physics::Placement& p) {
+  return {units::m_to_cm(p.d1), units::m_to_cm(p.w1), units::m_to_cm(p.d2), units::m_to_cm(p.w2)};
+}
+
+// The full multi-start of Section Parameter optimization, timed, beside the exhaustive grid search that checks it.
+int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
+  if (options.jobs < 1) throw UsageError("--jobs must be >= 1");
+  if (!(options.exhaustive_resolution_cm > 0.0)) throw UsageError("--exhaustive-resolution-cm must be > 0");
+  const auto config = experiments::load_experiment_config(options.config);
+  io::JsonReader reader(config.json, config.source, "");
+  (void)reader.text("format"), (void)reader.text("kind"), (void)reader.text("description", "");
+  experiments::DesignSettings settings = experiments::read_design_settings(reader, config);
+  settings.options.jobs = options.jobs;
+  const auto seconds_since = [](auto start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  auto start = std::chrono::steady_clock::now();
+  const optimize::DesignResult result = optimize::optimize_design(settings.problem, settings.options);
+  const double wall = seconds_since(start);
+  const double r = units::cm_to_m(options.exhaustive_resolution_cm);
+  start = std::chrono::steady_clock::now();
+  const optimize::LocalSolution check =
+      optimize::exhaustive_search(settings.problem, {.d1 = r, .w1 = r, .d2 = r, .w2 = r}, options.jobs);
+  const double exhaustive_wall = seconds_since(start);
+  const bool not_worse = result.best.objective <= check.objective + 1e-9;
+  const auto& b = result.best.placement;
+  const auto& c = check.placement;
+  const double distance_cm = units::m_to_cm(std::max({std::abs(b.d1 - c.d1), std::abs(b.w1 - c.w1),
+                                                      std::abs(b.d2 - c.d2), std::abs(b.w2 - c.w2)}));
+  constexpr double kPaperWallS = 24 * 60;  // Section Parameter optimization: "24 minutes on average"
+  if (options.json) {
+    out << nlohmann::json{{"wall_s", wall},
+                          {"evaluations", result.evaluations},
+                          {"starts", result.starts},
+                          {"placement_cm", placement_cm(b)},
+                          {"objective", result.best.objective},
+                          {"jobs", options.jobs},
+                          {"algorithm", settings.options.algorithm},
+                          {"exhaustive_wall_s", exhaustive_wall},
+                          {"exhaustive_points", check.evaluations},
+                          {"exhaustive_placement_cm", placement_cm(c)},
+                          {"exhaustive_objective", check.objective},
+                          {"same_optimum", not_worse && distance_cm <= options.exhaustive_resolution_cm},
+                          {"paper_wall_s", kPaperWallS}}
+               .dump()
+        << '\n';
+  } else {
+    out << fmt::format("design optimization ({}), {} starts on {} threads, {}\n", options.config, result.starts,
+                       options.jobs, settings.options.algorithm)
+        << fmt::format("  multi-start   {:>8.2f} s  {:>9} evaluations  optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
+                       "  objective {:.4f} N m\n",
+                       wall, result.evaluations, units::m_to_cm(b.d1), units::m_to_cm(b.w1), units::m_to_cm(b.d2),
+                       units::m_to_cm(b.w2), result.best.objective)
+        << fmt::format("  exhaustive    {:>8.2f} s  {:>9} points       optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
+                       "  objective {:.4f} N m ({} cm grid)\n",
+                       exhaustive_wall, check.evaluations, units::m_to_cm(c.d1), units::m_to_cm(c.w1),
+                       units::m_to_cm(c.d2), units::m_to_cm(c.w2), check.objective, options.exhaustive_resolution_cm)
+        << fmt::format("  same optimum: {} (multi-start not worse, within one grid step)\n",
+                       not_worse && distance_cm <= options.exhaustive_resolution_cm ? "yes" : "NO")
+        << fmt::format("  paper (MATLAB fminsearch): 24 min in all; target here < 10 s; ratio paper/here {:.0f}\n",
+                       kPaperWallS / wall);
+  }
+  return 0;
+}
+
 }  // namespace
 
 void add_bench_commands(CLI::App& app, std::ostream& out) {
@@ -85,6 +160,18 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   sim_bench->add_option("--rounds", options->rounds, "Interleaved rounds; the best of each is reported");
   sim_bench->add_flag("--json", options->json, "Print {plugin_steps_per_s, builtin_steps_per_s, ratio, ...}");
   sim_bench->callback([options, &out] { run_sim_bench(*options, out); });
+
+  auto optimize_options = std::make_shared<OptimizeBenchOptions>();
+  auto* optimize_bench = bench->add_subcommand(
+      "optimize", "Wall time of the full multi-start design optimization, beside the exhaustive grid check");
+  optimize_bench->add_option("--config", optimize_options->config, "A design_optimization experiment config")
+      ->check(CLI::ExistingFile);
+  optimize_bench->add_option("--jobs", optimize_options->jobs, "Threads");
+  optimize_bench->add_option("--exhaustive-resolution-cm", optimize_options->exhaustive_resolution_cm,
+                             "Grid step of the exhaustive check [cm]");
+  optimize_bench->add_flag("--json", optimize_options->json,
+                           "Print {wall_s, evaluations, placement_cm, objective, exhaustive_*, same_optimum, ...}");
+  optimize_bench->callback([optimize_options, &out] { run_optimize_bench(*optimize_options, out); });
 }
 
 }  // namespace softwrist::cli

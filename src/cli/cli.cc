@@ -7,6 +7,7 @@
 #include "cli/arguments.h"
 #include "cli/bench_commands.h"
 #include "cli/model_commands.h"
+#include "cli/personalize_command.h"
 #include "cli/render_command.h"
 #include "cli/run_commands.h"
 #include "physics/errors.h"
@@ -24,6 +25,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_bench_commands(app, out);
   add_render_command(app, out);
   add_run_commands(app, out, err);
+  add_personalize_command(app, out);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

@@ -6,6 +6,7 @@
 
 #include "io/csv.h"
 #include "io/text_file.h"
+#include "optimize/personalize.h"
 #include "physics/paper_parameters.h"
 #include "physics/units.h"
 
@@ -38,19 +39,7 @@ DesignSettings read_design_settings(io::JsonReader& reader, const ExperimentConf
   if (samples < 2 || samples > 100000) reader.fail("samples", "must be 2..100000");
   s.problem.samples = optimize::resample(optimize::read_reference_torque(reference), samples);
   s.problem.pressure = units::kpa_to_pa(reader.positive("pressure_kpa", 137.0));
-  if (reader.has("fpam")) {
-    io::JsonReader fpam = reader.child("fpam");
-    const double r0 = cm_to_m(fpam.positive("r0_cm", 1.23));
-    const double eps_max = fpam.positive("eps_max", 0.28);
-    try {
-      s.problem.fpam = physics::FpamParameters::Constant(r0, eps_max);
-    } catch (const std::exception& e) {
-      fpam.fail("", e.what());
-    }
-    fpam.finish();
-  } else {
-    s.problem.fpam = physics::paper::design_fpam();
-  }
+  s.problem.fpam = reader.has("fpam") ? optimize::read_design_fpam(reader.child("fpam")) : physics::paper::design_fpam();
   s.problem.wrist_radius = cm_to_m(reader.positive("wrist_radius_cm", 2.0));
   s.problem.max_stretch_angle = units::deg_to_rad(reader.number("max_stretch_angle_deg"));
   if (reader.has("bounds_cm")) {

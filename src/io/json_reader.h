@@ -38,6 +38,11 @@ class JsonReader {
     return number;
   }
   double number(const std::string& key, double fallback) { return has(key) ? number(key) : (seen_.insert(key), fallback); }
+  double positive(const std::string& key) {
+    const double v = number(key);
+    if (!(v > 0.0)) fail(key, fmt::format("must be > 0, got {}", v));
+    return v;
+  }
   double positive(const std::string& key, double fallback) {
     const double v = number(key, fallback);
     if (!(v > 0.0)) fail(key, fmt::format("must be > 0, got {}", v));

@@ -1,0 +1,111 @@
+// `softwrist run`, `merge`, `personalize` and `bench optimize` from the command line.
+
+#include "cli/run_commands.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/cli.h"
+#include "optimize/design_optimizer.h"
+#include "optimize/personalize.h"
+#include "sim/device.h"
+#include "sim/model.h"
+
+namespace softwrist::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+const fs::path kSource = SOFTWRIST_SOURCE_DIR;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+Result run(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = run_cli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+class CliRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("softwrist_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(CliRun, RunShardsAndMerge) {
+  const std::string config = (kSource / "experiments/range_of_motion.json").string();
+  for (const char* shard : {"1/2", "2/2"}) {
+    const auto r = run({"run", config, "--quiet", "--shard", shard, "--out", (dir_ / (std::string("s") + shard[0])).string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("softwrist merge"));
+  }
+  const auto merged = run({"merge", "--out", (dir_ / "all").string(), (dir_ / "s1").string(), (dir_ / "s2").string()});
+  ASSERT_EQ(merged.code, 0) << merged.err;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "all/summary.json"));
+  EXPECT_EQ(summary["muscles"].size(), 4u);
+
+  EXPECT_EQ(run({"run", config, "--shard", "3/2"}).code, 2);
+  const auto missing = run({"merge", "--out", (dir_ / "x").string(), (dir_ / "s1").string()});
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_THAT(missing.err, HasSubstr("error: merge: cases missing"));
+  std::ofstream(dir_ / "bad.json") << R"({"format": "softwrist.experiment/1", "kind": "range_of_motion"})";
+  const auto bad = run({"run", (dir_ / "bad.json").string()});
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_THAT(bad.err, HasSubstr("bad.json: model: missing"));
+}
+
+// The example user with a coarse start grid: the four placements lie within the bounds the arm dimensions give, the
+// flexor's equals the design optimization of the same problem, and the written files load.
+TEST_F(CliRun, PersonalizeWritesALoadablePlacementAndModel) {
+  auto user = nlohmann::json::parse(std::ifstream(kSource / "experiments/example_user.json"));
+  for (auto& [muscle, file] : user["references"].items()) file = (kSource / "experiments" / file.get<std::string>()).string();
+  user["start_resolution_cm"] = {{"d1", 5.0}, {"w1", 1.5}, {"d2", 2.5}, {"w2", 1.0}};
+  std::ofstream(dir_ / "user.json") << user.dump();
+  const auto r = run({"personalize", "--user", (dir_ / "user.json").string(), "--out", (dir_ / "out").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const sim::DeviceDescription device = sim::load_device(dir_ / "out/placement.json");
+  const optimize::UserDescription described = optimize::load_user(dir_ / "user.json");
+  for (int i = 0; i < 4; ++i) {
+    const auto& p = device.muscles[static_cast<std::size_t>(i)].placement;
+    const auto& b = described.bounds[static_cast<std::size_t>(i)];
+    EXPECT_TRUE(p.d1 >= b.lower.d1 && p.d1 <= b.upper.d1 && p.w1 >= b.lower.w1 && p.w1 <= b.upper.w1 &&
+                p.d2 >= b.lower.d2 && p.d2 <= b.upper.d2 && p.w2 >= b.lower.w2 && p.w2 <= b.upper.w2) << i;
+  }
+  optimize::OptimizerOptions options;
+  options.start_resolution = described.start_resolution;
+  const auto flexor = optimize::optimize_design(optimize::user_design_problem(described, 0), options);
+  EXPECT_NEAR(device.muscles[0].placement.d2, flexor.best.placement.d2, 1e-9);
+  EXPECT_NEAR(device.muscles[0].placement.d2, 0.09, 1e-4);  // Table optimized_parameters
+  EXPECT_NO_THROW(sim::Model::FromFile(dir_ / "out/model.xml", sim::PluginSet::Default()));
+
+  user["wrist"]["range_deg"].erase("radial");
+  std::ofstream(dir_ / "user2.json") << user.dump();
+  const auto bad = run({"personalize", "--user", (dir_ / "user2.json").string()});
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_THAT(bad.err, HasSubstr("user2.json: wrist.range_deg.radial: missing"));
+}
+
+TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
+  const auto r = run({"bench", "optimize", "--json", "--config", (kSource / "experiments/design_optimization.json").string(),
+                      "--exhaustive-resolution-cm", "1"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum"}) EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["placement_cm"].size(), 4u);
+  EXPECT_TRUE(j["same_optimum"].get<bool>());
+}
+
+}  // namespace
+}  // namespace softwrist::cli
