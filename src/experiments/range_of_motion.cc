@@ -19,13 +19,6 @@ using io::format_number;
 using units::deg_to_rad;
 using units::rad_to_deg;
 
-std::optional<sim::MuscleIndex> find_muscle(const std::string& name) {
-  for (std::size_t i = 0; i < sim::kMuscleNames.size(); ++i) {
-    if (name == sim::kMuscleNames[i]) return static_cast<sim::MuscleIndex>(i);
-  }
-  return std::nullopt;
-}
-
 }  // namespace
 
 std::unique_ptr<RangeOfMotion> RangeOfMotion::Create(const ExperimentConfig& config, io::JsonReader& reader) {
@@ -35,7 +28,7 @@ std::unique_ptr<RangeOfMotion> RangeOfMotion::Create(const ExperimentConfig& con
     const nlohmann::json& list = reader.raw("muscles");
     if (!list.is_array() || list.empty()) reader.fail("muscles", "must be a non-empty list of muscle names");
     for (const auto& item : list) {
-      const auto muscle = item.is_string() ? find_muscle(item.get<std::string>()) : std::nullopt;
+      const auto muscle = item.is_string() ? sim::muscle_from_name(item.get<std::string>()) : std::nullopt;
       if (!muscle) reader.fail("muscles", fmt::format("{} is not flexor, extensor, ulnar or radial", item.dump()));
       e->muscles_.push_back(*muscle);
     }
@@ -113,7 +106,7 @@ nlohmann::json RangeOfMotion::summarize(const io::CsvTable& log, const std::file
                                             device.wrist.ulnar_limit, device.wrist.radial_limit};
   nlohmann::json muscles = nlohmann::json::array();
   for (const auto& [name, s] : by_muscle) {
-    const auto muscle = find_muscle(name);
+    const auto muscle = sim::muscle_from_name(name);
     if (!muscle) throw std::runtime_error(log.source() + ": muscle '" + name + "' is not one of the four");
     const double pressure = units::kpa_to_pa(s.pressure_kpa);
     const double mean = s.sum / s.n;

@@ -22,9 +22,7 @@ using units::rad_to_deg;
 
 sim::MuscleIndex muscle_named(io::JsonReader& reader, const std::string& key) {
   const std::string name = reader.text(key, "flexor");
-  for (std::size_t i = 0; i < sim::kMuscleNames.size(); ++i) {
-    if (name == sim::kMuscleNames[i]) return static_cast<sim::MuscleIndex>(i);
-  }
+  if (const auto muscle = sim::muscle_from_name(name)) return *muscle;
   reader.fail(key, fmt::format("'{}' is not flexor, extensor, ulnar or radial", name));
 }
 

@@ -64,6 +64,13 @@ json fpam_to_json(const physics::FpamParameters& fpam) {
 
 }  // namespace
 
+std::optional<MuscleIndex> muscle_from_name(std::string_view name) {
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    if (name == kMuscleNames[i]) return static_cast<MuscleIndex>(i);
+  }
+  return std::nullopt;
+}
+
 physics::Muscle DeviceDescription::muscle(int index) const {
   const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
   return physics::Muscle{.placement = mount.placement,

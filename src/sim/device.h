@@ -5,7 +5,9 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "physics/muscle_torque.h"
 #include "physics/units.h"
@@ -15,6 +17,8 @@ namespace softwrist::sim {
 // The four muscles, in the order of the model's tendons and actuators.
 enum MuscleIndex { kFlexor = 0, kExtensor = 1, kUlnar = 2, kRadial = 3 };
 inline constexpr std::array<const char*, 4> kMuscleNames = {"flexor", "extensor", "ulnar", "radial"};
+// The muscle of that name (kMuscleNames), or nullopt.
+std::optional<MuscleIndex> muscle_from_name(std::string_view name);
 
 struct MuscleMount {
   physics::Placement placement;  // in the muscle's own plane (torque_geometry.h)

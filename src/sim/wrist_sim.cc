@@ -21,7 +21,10 @@ WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) 
   reset();
 }
 
-void WristSim::reset() { mj_resetData(model_.get(), data_.get()); mj_forward(model_.get(), data_.get()); }
+void WristSim::reset() {
+  mj_resetData(model_.get(), data_.get());
+  mj_forward(model_.get(), data_.get());
+}
 
 void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa) {
   for (int i = 0; i < 4; ++i) data_->ctrl[i] = pressures_kpa[static_cast<std::size_t>(i)];
