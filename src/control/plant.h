@@ -1,0 +1,39 @@
+#pragma once
+// What a controller sees of the exosuit (Section Control system): four commanded pressures out, two wrist angles
+// from the IMU pair in, and time. The simulation (sim/simulated_plant.h) implements it now and the hardware bridge
+// will; a controller written against it runs on either unchanged. Units at this edge are the paper's: kPa and
+// degrees (flexion and ulnar deviation positive), seconds.
+
+#include <array>
+
+namespace softwrist::control {
+
+// Flexor, extensor, ulnar, radial (the order of the model's actuators).
+using Pressures = std::array<double, 4>;
+
+struct WristAngles {
+  double fe_deg = 0.0;  // flexion positive
+  double ur_deg = 0.0;  // ulnar deviation positive
+};
+
+struct ImuReading {
+  WristAngles angles;
+  double time_s = 0.0;  // when the IMUs sampled it
+  bool valid = false;   // false until the first sample, or when the IMUs report an error
+};
+
+class Plant {
+ public:
+  virtual ~Plant() = default;
+  // Sets the regulators' commanded pressures [kPa]; the plant clamps them to its safe range.
+  virtual void command_pressures_kpa(const Pressures& pressures) = 0;
+  // The latest IMU sample (100 Hz on the paper's device).
+  virtual ImuReading read_angles() = 0;
+  virtual double time_s() const = 0;
+  // Returns at time `t` [s]: the simulation steps to it, the hardware waits for it.
+  virtual void wait_until(double t) = 0;
+  // The regulators' range [kPa].
+  virtual double max_pressure_kpa() const = 0;
+};
+
+}  // namespace softwrist::control
