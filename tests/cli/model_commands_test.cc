@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/cli.h"
+#include "cli/run_cli_for_test.h"
 #include "physics/paper_parameters.h"
 #include "physics/units.h"
 
@@ -15,16 +15,6 @@ namespace softwrist::cli {
 namespace {
 
 using nlohmann::json;
-
-struct Result {
-  int code;
-  std::string out, err;
-};
-Result run(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = run_cli(args, out, err);
-  return {code, out.str(), err.str()};
-}
 
 TEST(ModelTorque, DefaultsToTheTorqueRigFlexorAndMatchesThePhysicsCore) {
   const auto r = run({"model", "torque", "--pressure-kpa", "103", "--stretch", "selfconsistent", "--json"});

@@ -10,7 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/cli.h"
+#include "cli/run_cli_for_test.h"
+#include "support/scratch_dir_test.h"
 #include "optimize/design_optimizer.h"
 #include "optimize/personalize.h"
 #include "sim/device.h"
@@ -23,26 +24,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 const fs::path kSource = SOFTWRIST_SOURCE_DIR;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
-Result run(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = run_cli(args, out, err);
-  return {code, out.str(), err.str()};
-}
-
-class CliRun : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("softwrist_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+using CliRun = softwrist::testing::ScratchDirTest;
 
 TEST_F(CliRun, RunShardsAndMerge) {
   const std::string config = (kSource / "experiments/range_of_motion.json").string();

@@ -10,6 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/scratch_dir_test.h"
+
 namespace softwrist::experiments {
 namespace {
 
@@ -25,14 +27,8 @@ std::string read(const fs::path& path) {
   return text.str();
 }
 
-class RunnerTest : public ::testing::Test {
+class RunnerTest : public softwrist::testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("softwrist_runner_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   // A small torque validation: 3 angles x 2 pressures x 2 repetitions.
   ExperimentConfig config(const std::string& extra = "") {
     const fs::path path = dir_ / "small.json";
@@ -53,7 +49,6 @@ class RunnerTest : public ::testing::Test {
     }
     return "";
   }
-  fs::path dir_;
 };
 
 TEST_F(RunnerTest, SameSeedSameNumbersForAnyThreadCount) {
