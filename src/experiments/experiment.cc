@@ -41,6 +41,13 @@ std::mt19937_64 case_rng(std::uint64_t seed, int case_index) {
   return std::mt19937_64(sequence);
 }
 
+Repetitions read_repetitions(io::JsonReader& reader) {
+  Repetitions r{.count = static_cast<int>(reader.integer("repetitions", 3)),
+                .seed = static_cast<std::uint64_t>(reader.integer("seed", 1))};
+  if (r.count < 1 || r.count > 1000) reader.fail("repetitions", "must be 1..1000");
+  return r;
+}
+
 std::filesystem::path config_path(io::JsonReader& reader, const std::string& key, const ExperimentConfig& config) {
   const std::filesystem::path path = reader.text(key);
   if (path.empty()) reader.fail(key, "must name a file");

@@ -53,6 +53,13 @@ std::unique_ptr<Experiment> make_experiment(const ExperimentConfig& config);
 // The random stream of one case: the same for a given seed and case index, whatever the threads or shards.
 std::mt19937_64 case_rng(std::uint64_t seed, int case_index);
 
+// The repeated-trial fields most experiments share: "repetitions" (1..1000, default 3) and "seed" (default 1).
+struct Repetitions {
+  int count = 3;
+  std::uint64_t seed = 1;
+};
+Repetitions read_repetitions(io::JsonReader& reader);
+
 // A path field of a config, resolved against the config's directory.
 std::filesystem::path config_path(io::JsonReader& reader, const std::string& key, const ExperimentConfig& config);
 

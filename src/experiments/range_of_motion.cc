@@ -35,19 +35,14 @@ std::unique_ptr<RangeOfMotion> RangeOfMotion::Create(const ExperimentConfig& con
   } else {
     e->muscles_ = {sim::kFlexor, sim::kExtensor, sim::kUlnar, sim::kRadial};
   }
-  const double max_kpa = units::pa_to_kpa(e->device_->description.regulator.max_pressure);
-  const double kpa = reader.number("pressure_kpa", 137.0);
-  if (kpa < 0.0 || kpa > max_kpa) reader.fail("pressure_kpa", fmt::format("{} is outside the regulator's 0..{}", kpa, max_kpa));
-  e->pressure_ = units::kpa_to_pa(kpa);
-  e->repetitions_ = static_cast<int>(reader.integer("repetitions", 3));
-  if (e->repetitions_ < 1 || e->repetitions_ > 1000) reader.fail("repetitions", "must be 1..1000");
-  e->seed_ = static_cast<std::uint64_t>(reader.integer("seed", 1));
+  e->pressure_ = e->device_->regulator_pressure(reader, "pressure_kpa", reader.number("pressure_kpa", 137.0));
+  const Repetitions repetitions = read_repetitions(reader);
+  e->repetitions_ = repetitions.count;
+  e->seed_ = repetitions.seed;
   e->settle_time_ = reader.positive("settle_time_s", 6.0);
   if (reader.has("sensor_noise")) {
     io::JsonReader noise = reader.child("sensor_noise");
-    const double std_deg = noise.number("angle_std_deg", 0.5);
-    if (std_deg < 0.0) noise.fail("angle_std_deg", "must be >= 0");
-    e->angle_std_ = deg_to_rad(std_deg);
+    e->angle_std_ = deg_to_rad(noise.non_negative("angle_std_deg", 0.5));
     noise.finish();
   }
   return e;

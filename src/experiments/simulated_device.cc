@@ -1,6 +1,7 @@
 #include "experiments/simulated_device.h"
 
 #include "experiments/trial_log.h"
+#include "physics/units.h"
 #include "sim/model_builder.h"
 
 namespace softwrist::experiments {
@@ -14,5 +15,13 @@ SimulatedDevice::SimulatedDevice(const sim::DeviceDescription& device)
       plugins(sim::PluginSet::Default()),
       model(sim::Model::FromXml(model_xml, plugins, "generated model")),
       model_hash(content_hash(model_xml)) {}
+
+double SimulatedDevice::regulator_pressure(io::JsonReader& reader, const std::string& key, double pressure_kpa) const {
+  const double max_kpa = units::pa_to_kpa(description.regulator.max_pressure);
+  if (!(pressure_kpa >= 0.0 && pressure_kpa <= max_kpa)) {
+    reader.fail(key, fmt::format("{} is outside the regulator's 0..{}", pressure_kpa, max_kpa));
+  }
+  return units::kpa_to_pa(pressure_kpa);
+}
 
 }  // namespace softwrist::experiments

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "io/json_reader.h"
 #include "sim/device.h"
 #include "sim/model.h"
 #include "sim/plugins.h"
@@ -14,6 +15,9 @@ namespace softwrist::experiments {
 struct SimulatedDevice {
   explicit SimulatedDevice(const std::filesystem::path& placement_file);
   explicit SimulatedDevice(const sim::DeviceDescription& description);
+
+  // A config's pressure [kPa] as pascals, or an error naming `key` when it is outside this device's regulator range.
+  double regulator_pressure(io::JsonReader& reader, const std::string& key, double pressure_kpa) const;
 
   sim::DeviceDescription description;
   std::string model_xml;

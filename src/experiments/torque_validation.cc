@@ -45,25 +45,18 @@ std::unique_ptr<TorqueValidation> TorqueValidation::Create(const ExperimentConfi
                                     physics::paper::kMeasurementPressures.end());
   for (double& p : pressures_kpa) p = units::pa_to_kpa(p);
   if (reader.has("pressures_kpa")) pressures_kpa = reader.numbers("pressures_kpa");
-  const double max_kpa = units::pa_to_kpa(experiment->device_->description.regulator.max_pressure);
   for (double p : pressures_kpa) {
-    if (p < 0.0 || p > max_kpa) reader.fail("pressures_kpa", fmt::format("{} is outside the regulator's 0..{}", p, max_kpa));
-    experiment->pressures_.push_back(units::kpa_to_pa(p));
+    experiment->pressures_.push_back(experiment->device_->regulator_pressure(reader, "pressures_kpa", p));
   }
-  experiment->repetitions_ = static_cast<int>(reader.integer("repetitions", 3));
-  if (experiment->repetitions_ < 1 || experiment->repetitions_ > 1000) reader.fail("repetitions", "must be 1..1000");
-  experiment->seed_ = static_cast<std::uint64_t>(reader.integer("seed", 1));
+  const Repetitions repetitions = read_repetitions(reader);
+  experiment->repetitions_ = repetitions.count;
+  experiment->seed_ = repetitions.seed;
   experiment->hold_time_ = reader.positive("hold_time_s", 1.0);
   if (reader.has("sensor_noise")) {
     io::JsonReader noise = reader.child("sensor_noise");
-    auto non_negative = [&](const char* key, double fallback) {
-      const double v = noise.number(key, fallback);
-      if (v < 0.0) noise.fail(key, "must be >= 0");
-      return v;
-    };
-    experiment->noise_.torque_std = non_negative("torque_std_nm", 0.02);
-    experiment->noise_.angle_jitter = deg_to_rad(non_negative("angle_jitter_deg", 1.0));
-    experiment->noise_.marker_std = cm_to_m(0.1 * non_negative("marker_std_mm", 2.0));
+    experiment->noise_.torque_std = noise.non_negative("torque_std_nm", 0.02);
+    experiment->noise_.angle_jitter = deg_to_rad(noise.non_negative("angle_jitter_deg", 1.0));
+    experiment->noise_.marker_std = cm_to_m(0.1 * noise.non_negative("marker_std_mm", 2.0));
     noise.finish();
   }
   return experiment;

@@ -75,6 +75,11 @@ class JsonReader {
     }
     return values;
   }
+  double non_negative(const std::string& key, double fallback) {
+    const double v = number(key, fallback);
+    if (v < 0.0) fail(key, "must be >= 0");
+    return v;
+  }
   std::string text(const std::string& key) {
     seen_.insert(key);
     if (!object_.contains(key)) fail(key, "missing");

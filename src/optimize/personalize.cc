@@ -30,8 +30,7 @@ Limb read_limb(io::JsonReader reader) {
             .max_distance = cm_to_m(reader.positive("max_mount_distance_cm")),
             .thickness = cm_to_m(reader.positive("thickness_cm")),
             .width = cm_to_m(reader.positive("width_cm")),
-            .elevation = cm_to_m(reader.number("max_elevation_cm", 0.0))};
-  if (limb.elevation < 0.0) reader.fail("max_elevation_cm", "must be >= 0");
+            .elevation = cm_to_m(reader.non_negative("max_elevation_cm", 0.0))};
   if (limb.max_distance < limb.min_distance) reader.fail("max_mount_distance_cm", "must be >= min_mount_distance_cm");
   reader.finish();
   return limb;
