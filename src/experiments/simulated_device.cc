@@ -2,16 +2,15 @@
 
 #include "experiments/trial_log.h"
 #include "physics/units.h"
-#include "sim/model_builder.h"
 
 namespace softwrist::experiments {
 
-SimulatedDevice::SimulatedDevice(const std::filesystem::path& placement_file)
-    : SimulatedDevice(sim::load_device(placement_file)) {}
+SimulatedDevice::SimulatedDevice(const std::filesystem::path& placement_file, const sim::ModelOptions& options)
+    : SimulatedDevice(sim::load_device(placement_file), options) {}
 
-SimulatedDevice::SimulatedDevice(const sim::DeviceDescription& device)
+SimulatedDevice::SimulatedDevice(const sim::DeviceDescription& device, const sim::ModelOptions& options)
     : description(device),
-      model_xml(sim::build_model_xml(device)),
+      model_xml(sim::build_model_xml(device, options)),
       plugins(sim::PluginSet::Default()),
       model(sim::Model::FromXml(model_xml, plugins, "generated model")),
       model_hash(content_hash(model_xml)) {}

@@ -8,13 +8,14 @@
 #include "io/json_reader.h"
 #include "sim/device.h"
 #include "sim/model.h"
+#include "sim/model_builder.h"
 #include "sim/plugins.h"
 
 namespace softwrist::experiments {
 
 struct SimulatedDevice {
-  explicit SimulatedDevice(const std::filesystem::path& placement_file);
-  explicit SimulatedDevice(const sim::DeviceDescription& description);
+  explicit SimulatedDevice(const std::filesystem::path& placement_file, const sim::ModelOptions& options = {});
+  explicit SimulatedDevice(const sim::DeviceDescription& description, const sim::ModelOptions& options = {});
 
   // A config's pressure [kPa] as pascals, or an error naming `key` when it is outside this device's regulator range.
   double regulator_pressure(io::JsonReader& reader, const std::string& key, double pressure_kpa) const;

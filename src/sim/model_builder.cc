@@ -109,7 +109,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
        damping: approximately Charles & Hogan 2011 (J Biomech 44:614) and Formica et al. 2012 (J Neurophysiol
        108:1158, ulnar/radial stiffer than flexion/extension). Joint ranges: biological range of motion, Table RoM. -->
   <compiler angle="radian" inertiafromgeom="false"/>
-  <option timestep="{timestep:.10g}" gravity="0 0 -9.81"/>
+  <option timestep="{timestep:.10g}" gravity="0 0 {gravity:.10g}"/>
   <visual><global offwidth="1280" offheight="960"/></visual>
   <custom>
 {custom}  </custom>
@@ -133,7 +133,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
 {actuators}  </actuator>
 </mujoco>
 )",
-      fmt::arg("timestep", options.timestep), fmt::arg("custom", custom), fmt::arg("forearm_items", forearm_items),
+      fmt::arg("timestep", options.timestep), fmt::arg("gravity", -options.gravity), fmt::arg("custom", custom), fmt::arg("forearm_items", forearm_items),
       fmt::arg("hand_items", hand_items), fmt::arg("tendons", tendons), fmt::arg("actuators", actuators),
       fmt::arg("ext", -w.extension_limit), fmt::arg("flex", w.flexion_limit), fmt::arg("rad", -w.radial_limit),
       fmt::arg("uln", w.ulnar_limit), fmt::arg("kfe", w.stiffness_fe), fmt::arg("bfe", w.damping_fe),

@@ -23,6 +23,9 @@ enum class ActuatorKind {
 struct ModelOptions {
   ActuatorKind actuators = ActuatorKind::kFpamPlugin;
   double timestep = 0.001;  // [s]
+  // [m/s^2] along -z of the world; 0 when a table carries the hand (Section Planar angle tracking: the wrist moves
+  // in the horizontal plane with the forearm on the table).
+  double gravity = 9.81;
 };
 
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});
