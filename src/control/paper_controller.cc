@@ -31,6 +31,10 @@ PaperController::PaperController(PaperControllerParameters parameters) : paramet
 
 void PaperController::reset() { pressures_.fill(parameters_.initial_kpa); }
 
+Pressures PaperController::command(double, const Reference& desired, const ImuReading& reading) {
+  return reading.valid ? update(desired.angles, reading.angles) : pressures_;
+}
+
 const Pressures& PaperController::update(const WristAngles& desired, const WristAngles& measured) {
   const double fe_error = desired.fe_deg - measured.fe_deg;
   const double ur_error = desired.ur_deg - measured.ur_deg;

@@ -5,7 +5,7 @@
 // antagonist's pressure falls twice as fast while it is above 13.8 kPa; all muscles start at 13.8 kPa; pressures
 // stay within the regulators' range. Pure: no plant, no clock.
 
-#include "control/plant.h"
+#include "control/controller.h"
 
 namespace softwrist::control {
 
@@ -17,11 +17,15 @@ struct PaperControllerParameters {
   double max_kpa = 137.0;            // regulator range
 };
 
-class PaperController {
+class PaperController final : public Controller {
  public:
   explicit PaperController(PaperControllerParameters parameters = {});
+  std::string name() const override { return "paper"; }
+  double period_s() const override { return parameters_.period_s; }
   // Back to the initial pressures.
-  void reset();
+  void reset() override;
+  // Controller: update() on a valid reading; an invalid one holds the pressures.
+  Pressures command(double t_s, const Reference& desired, const ImuReading& reading) override;
   // One loop iteration: the new commanded pressures [kPa] from the desired and measured angles.
   const Pressures& update(const WristAngles& desired, const WristAngles& measured);
   const Pressures& pressures() const { return pressures_; }

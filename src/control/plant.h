@@ -16,6 +16,12 @@ struct WristAngles {
   double ur_deg = 0.0;  // ulnar deviation positive
 };
 
+// A desired wrist motion at one instant: the angles and how fast they change (0 across a step's jump).
+struct Reference {
+  WristAngles angles;
+  WristAngles rate_deg_s;
+};
+
 struct ImuReading {
   WristAngles angles;
   double time_s = 0.0;  // when the IMUs sampled it

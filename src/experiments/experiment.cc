@@ -3,6 +3,7 @@
 #include "experiments/design_optimization.h"
 #include "experiments/range_of_motion.h"
 #include "experiments/torque_validation.h"
+#include "experiments/tracking.h"
 #include "io/text_file.h"
 
 namespace softwrist::experiments {
@@ -28,8 +29,11 @@ std::unique_ptr<Experiment> make_experiment(const ExperimentConfig& config) {
     experiment = RangeOfMotion::Create(config, reader);
   } else if (kind == "design_optimization") {
     experiment = DesignOptimization::Create(config, reader);
+  } else if (kind == "tracking") {
+    experiment = Tracking::Create(config, reader);
   } else {
-    reader.fail("kind", fmt::format("'{}' is not torque_validation, range_of_motion or design_optimization", kind));
+    reader.fail("kind",
+                fmt::format("'{}' is not torque_validation, range_of_motion, design_optimization or tracking", kind));
   }
   reader.finish();
   return experiment;
