@@ -140,6 +140,26 @@ TEST_F(RunnerTest, BadConfigsNameTheFileAndTheField) {
   std::ofstream(dir_ / "bad_reference.csv") << "angle_deg,torque_nm\n0,1\n10,oops\n";
   const std::string bad_reference = R"({"format": "softwrist.experiment/1", "kind": "design_optimization", "reference": "bad_reference.csv", "max_stretch_angle_deg": -65.4})";
   EXPECT_THAT(error_of(bad_reference), HasSubstr("bad_reference.csv:3: torque_nm: not a number: 'oops'"));
+  const std::string tracking = R"({"format": "softwrist.experiment/1", "kind": "tracking", "model": ")" + model + "\", ";
+  const std::string steps = R"("trajectory": {"type": "steps", "levels_fe_deg": [0, 10]}, )";
+  EXPECT_THAT(error_of(tracking + R"("controllers": [{"name": "paper"}]})"), HasSubstr("bad.json: trajectory: missing"));
+  EXPECT_THAT(error_of(tracking + R"("trajectory": {"type": "zigzag"}, "controllers": [{"name": "paper"}]})"),
+              HasSubstr("bad.json: trajectory.type: 'zigzag' is not steps or sinusoid"));
+  EXPECT_THAT(error_of(tracking + R"("trajectory": {"type": "sinusoid", "fe_min_deg": 40}, "controllers": [{"name": "paper"}]})"),
+              HasSubstr("bad.json: trajectory.fe_min_deg: is above fe_max_deg"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "bang_bang"}]})"),
+              HasSubstr("bad.json: controllers[0].name: 'bang_bang' is not paper or model_based"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "paper"}, {"name": "paper"}]})"),
+              HasSubstr("bad.json: controllers[1].name: 'paper' is listed twice"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "model_based", "kp_nm_per_rad": -1}]})"),
+              HasSubstr("bad.json: controllers[0].kp_nm_per_rad: must be >= 0"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "model_based", "co_contraction_kpa": 150}]})"),
+              HasSubstr("bad.json: controllers[0].co_contraction_kpa: must be below the regulator's maximum"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "paper", "initial_kpa": 140}]})"),
+              HasSubstr("bad.json: controllers[0].initial_kpa: is above the regulator's 137 kPa"));
+  EXPECT_THAT(error_of(tracking + steps + R"("pairs": ["fe", "pronation"], "controllers": [{"name": "paper"}]})"),
+              HasSubstr("bad.json: pairs: \"pronation\" is not"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": []})"), HasSubstr("bad.json: controllers: must be a non-empty list"));
 }
 
 TEST(ParseShard, AcceptsKOfNOnly) {
