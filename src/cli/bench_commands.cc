@@ -11,6 +11,7 @@
 #include "cli/arguments.h"
 #include "experiments/design_optimization.h"
 #include "experiments/experiment.h"
+#include "experiments/tracking.h"
 #include "physics/units.h"
 #include "sim/device.h"
 #include "sim/model.h"
@@ -148,6 +149,58 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
   return 0;
 }
 
+struct ControlBenchOptions {
+  std::string config = "experiments/spatial_tracking.json";
+  bool json = false;
+};
+
+// Real-time factor (simulated seconds per wall second) of each controller with the simulated plant along a
+// tracking config's trajectory, beside the plant alone driven with fixed pressures at the same loop rate.
+int run_control_bench(const ControlBenchOptions& options, std::ostream& out) {
+  const auto experiment = experiments::make_experiment(experiments::load_experiment_config(options.config));
+  const auto* tracking = dynamic_cast<const experiments::Tracking*>(experiment.get());
+  if (tracking == nullptr) throw UsageError(options.config + " is not a tracking experiment config");
+  const double duration = tracking->trajectory().duration_s();
+  const auto wall_since = [](auto start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  nlohmann::json rows = nlohmann::json::array();
+  double plant_only_rtf = 0.0;
+  for (const auto& controller : tracking->make_controllers()) {
+    sim::SimulatedPlant plant = tracking->make_plant(1);
+    auto start = std::chrono::steady_clock::now();
+    control::run_tracking(plant, *controller, tracking->trajectory(), tracking->options(), nullptr);
+    const double with_controller = wall_since(start);
+    sim::SimulatedPlant bare = tracking->make_plant(1);
+    start = std::chrono::steady_clock::now();
+    for (double t = 0.0; t < duration; t += controller->period_s()) {
+      (void)bare.read_angles();
+      bare.command_pressures_kpa({20.0, 20.0, 20.0, 20.0});
+      bare.wait_until(t + controller->period_s());
+    }
+    const double plant_alone = wall_since(start);
+    plant_only_rtf = std::max(plant_only_rtf, duration / plant_alone);
+    rows.push_back({{"controller", controller->name()},
+                    {"simulated_s", duration},
+                    {"wall_s", with_controller},
+                    {"real_time_factor", duration / with_controller},
+                    {"plant_alone_wall_s", plant_alone},
+                    {"cost_ratio", with_controller / plant_alone}});
+  }
+  if (options.json) {
+    out << nlohmann::json{{"config", options.config}, {"controllers", rows}}.dump() << '\n';
+    return 0;
+  }
+  out << fmt::format("controller + simulated plant along {} ({:.0f} s simulated)\n", options.config, duration);
+  for (const auto& r : rows) {
+    out << fmt::format("  {:<12} {:>7.2f} s wall  real-time factor {:>6.1f}  (plant alone {:.2f} s; ratio {:.2f})\n",
+                       r["controller"].get<std::string>(), r["wall_s"].get<double>(), r["real_time_factor"].get<double>(),
+                       r["plant_alone_wall_s"].get<double>(), r["cost_ratio"].get<double>());
+  }
+  out << "  real time needs a factor >= 1; the ratio is the loop's cost over the plant's alone\n";
+  return 0;
+}
+
 }  // namespace
 
 void add_bench_commands(CLI::App& app, std::ostream& out) {
@@ -172,6 +225,15 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   optimize_bench->add_flag("--json", optimize_options->json,
                            "Print {wall_s, evaluations, placement_cm, objective, exhaustive_*, same_optimum, ...}");
   optimize_bench->callback([optimize_options, &out] { run_optimize_bench(*optimize_options, out); });
+
+  auto control_options = std::make_shared<ControlBenchOptions>();
+  auto* control_bench = bench->add_subcommand(
+      "control", "Real-time factor of each controller with the simulated plant, beside the plant alone");
+  control_bench->add_option("--config", control_options->config, "A tracking experiment config")
+      ->check(CLI::ExistingFile);
+  control_bench->add_flag("--json", control_options->json,
+                          "Print {config, controllers: [{controller, real_time_factor, wall_s, cost_ratio, ...}]}");
+  control_bench->callback([control_options, &out] { run_control_bench(*control_options, out); });
 }
 
 }  // namespace softwrist::cli

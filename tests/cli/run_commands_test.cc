@@ -1,4 +1,4 @@
-// `softwrist run`, `merge`, `personalize` and `bench optimize` from the command line.
+// `softwrist run`, `merge`, `personalize`, `bench optimize` and `bench control` from the command line.
 
 #include "cli/run_commands.h"
 
@@ -87,6 +87,24 @@ TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
   for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum"}) EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["placement_cm"].size(), 4u);
   EXPECT_TRUE(j["same_optimum"].get<bool>());
+}
+
+// The benchmark reports every controller of the config over the whole trajectory (110 s of planar steps), with
+// its real-time factor (the figure itself is the benchmark's business, not a test's); a config of another kind is
+// refused.
+TEST(CliBench, ControlRunsAheadOfRealTime) {
+  const auto r = run({"bench", "control", "--json", "--config", (kSource / "experiments/planar_tracking.json").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["controllers"].size(), 2u);
+  for (const auto& c : j["controllers"]) {
+    EXPECT_DOUBLE_EQ(c["simulated_s"].get<double>(), 110.0);
+    EXPECT_GT(c["real_time_factor"].get<double>(), 0.0);
+  }
+  EXPECT_EQ(j["controllers"][0]["controller"], "paper");
+  const auto wrong = run({"bench", "control", "--config", (kSource / "experiments/range_of_motion.json").string()});
+  EXPECT_NE(wrong.code, 0);
+  EXPECT_THAT(wrong.err, HasSubstr("is not a tracking experiment config"));
 }
 
 }  // namespace
