@@ -2,7 +2,8 @@
 # The main job: set-up, build, and the default experiments with their results, written to out/main/:
 #   the analytic model's tables (flexor torque three ways; modeled range of motion beside the paper's),
 #   the paper's experiments in simulation (torque validation, range of motion, design optimization with the
-#   minimum-pressure search), each a run directory with its trial log and summary.json,
+#   minimum-pressure search; planar steps and spatial tracking with the paper's and the model-based controller),
+#   each a run directory with its trial log and summary.json,
 #   and two offscreen renders of the paper's device.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,7 +12,7 @@ cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DSOFTWRIST_BUILD_TESTS=O
 cmake --build build/release -j2 --target softwrist softwrist_fpam
 softwrist=./build/release/src/cli/softwrist
 $softwrist model tables --out out/main
-for experiment in torque_validation range_of_motion design_optimization; do
+for experiment in torque_validation range_of_motion design_optimization planar_tracking spatial_tracking; do
   $softwrist run "experiments/$experiment.json" --out "out/main/$experiment" --jobs 2 --quiet
 done
 $softwrist render --fe-deg 30 --pressures-kpa 137,10,0,0 --view radial --out out/main/flexor_137kpa_radial.png
