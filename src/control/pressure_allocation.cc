@@ -18,14 +18,15 @@ PairPressures allocate_pair_pressures(const physics::WristModel& wrist, physics:
     const PairPressures p = pressures_on_path(s, co_contraction, max_pressure);
     return physics::pair_torque(pair, angle, p.agonist, p.antagonist).net_torque;
   };
-  if (torque(1.0) <= torque_demand) {
+  // Beyond either end of the path the demand cannot be met: the nearest end, flagged.
+  if (const double strongest = torque(1.0); strongest <= torque_demand) {
     PairPressures p = pressures_on_path(1.0, co_contraction, max_pressure);
-    p.saturated = torque(1.0) < torque_demand ? 1 : 0;
+    p.saturated = strongest < torque_demand ? 1 : 0;
     return p;
   }
-  if (torque(-1.0) >= torque_demand) {
+  if (const double weakest = torque(-1.0); weakest >= torque_demand) {
     PairPressures p = pressures_on_path(-1.0, co_contraction, max_pressure);
-    p.saturated = torque(-1.0) > torque_demand ? -1 : 0;
+    p.saturated = weakest > torque_demand ? -1 : 0;
     return p;
   }
   double lo = -1.0, hi = 1.0;
