@@ -3,7 +3,7 @@
 #   the analytic model's tables (flexor torque three ways; modeled range of motion beside the paper's),
 #   the paper's experiments in simulation (torque validation, range of motion, design optimization with the
 #   minimum-pressure search; planar steps and spatial tracking with the paper's and the model-based controller),
-#   each a run directory with its trial log and summary.json,
+#   each a run directory with its trial log, summary.json and an HTML report (report/index.html),
 #   and two offscreen renders of the paper's device.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,6 +14,7 @@ softwrist=./build/release/src/cli/softwrist
 $softwrist model tables --out out/main
 for experiment in torque_validation range_of_motion design_optimization planar_tracking spatial_tracking; do
   $softwrist run "experiments/$experiment.json" --out "out/main/$experiment" --jobs 2 --quiet
+  $softwrist report "out/main/$experiment"
 done
 $softwrist render --fe-deg 30 --pressures-kpa 137,10,0,0 --view radial --out out/main/flexor_137kpa_radial.png
 $softwrist render --ur-deg 15 --pressures-kpa 0,0,137,20 --view palmar --out out/main/ulnar_137kpa_palmar.png

@@ -15,6 +15,7 @@ packages=(
   libfmt-dev                      # formatting
   libgtest-dev libgmock-dev       # tests
   libbenchmark-dev                # benchmarks
+  python3-matplotlib              # report plots (softwrist report)
 )
 
 missing=()

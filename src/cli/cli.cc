@@ -9,6 +9,7 @@
 #include "cli/model_commands.h"
 #include "cli/personalize_command.h"
 #include "cli/render_command.h"
+#include "cli/report_command.h"
 #include "cli/run_commands.h"
 #include "physics/errors.h"
 
@@ -24,6 +25,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_model_commands(app, out);
   add_bench_commands(app, out);
   add_render_command(app, out);
+  add_report_command(app, out);
   add_run_commands(app, out, err);
   add_personalize_command(app, out);
 

@@ -1,0 +1,33 @@
+#pragma once
+// `softwrist report`: one HTML page per run directory, with the PNGs beside it. What was run (config, model and
+// config hashes, software version), the metrics next to the paper's, and plots made by matplotlib from the run's
+// own files (plot_run.py, run with python3). Every number on the page comes from the run directory.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace softwrist::report {
+
+struct ReportOptions {
+  std::filesystem::path out;  // default: <run>/report
+  bool plots = true;          // false: the page without plots (no python3 needed)
+};
+
+struct ReportResult {
+  std::filesystem::path page;
+  std::vector<std::string> plots;  // file names beside the page
+};
+
+// Throws std::runtime_error naming the problem: not a run directory, a missing or malformed trials.json or
+// summary.json, the plotting failing (python3 or python3-matplotlib missing).
+ReportResult write_report(const std::filesystem::path& run_dir, const ReportOptions& options = {});
+
+// The metrics table of a summary: rows of {quantity, softwrist, paper}, by the run's kind.
+std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, const nlohmann::json& summary);
+
+std::string html_escape(const std::string& text);
+
+}  // namespace softwrist::report

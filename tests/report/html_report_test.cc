@@ -1,0 +1,86 @@
+// `softwrist report`'s page (report/html_report.h) on a real run: metrics beside the paper's, plots written by
+// matplotlib and linked from the page, provenance, and clear errors for what is not a run directory.
+
+#include "report/html_report.h"
+
+#include <fstream>
+#include <iterator>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "experiments/runner.h"
+#include "support/scratch_dir_test.h"
+
+namespace softwrist::report {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+const fs::path kSource = SOFTWRIST_SOURCE_DIR;
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+class HtmlReportTest : public testing::ScratchDirTest {
+ protected:
+  // A quick range-of-motion run (one repetition) in the scratch directory.
+  fs::path rom_run() {
+    std::ofstream(dir_ / "rom.json") << R"({"format": "softwrist.experiment/1", "kind": "range_of_motion", "model": ")"
+                                     << (kSource / "models/rom_device.json").string()
+                                     << R"(", "repetitions": 1, "description": "RoM <quick> & small"})";
+    experiments::run_experiment(experiments::load_experiment_config(dir_ / "rom.json"),
+                                {.out = dir_ / "run", .jobs = 2});
+    return dir_ / "run";
+  }
+};
+
+// The page holds the paper's Table RoM values beside the simulated ones, the escaped description, the run's
+// hashes, and an <img> for each plot, which is a PNG on disk.
+TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
+  const fs::path run = rom_run();
+  const ReportResult result = write_report(run);
+  EXPECT_EQ(result.page, run / "report" / "index.html");
+  const std::string html = read(result.page);
+  EXPECT_THAT(html, HasSubstr("RoM &lt;quick&gt; &amp; small"));
+  EXPECT_THAT(html, HasSubstr("<td>flexion range</td>"));
+  EXPECT_THAT(html, HasSubstr("44.5° ± 7.5° (biological 80.9°)"));  // Table RoM, the paper's exosuit flexion
+  EXPECT_THAT(html, HasSubstr("fnv1a64:"));
+  ASSERT_EQ(result.plots.size(), 1u);
+  for (const std::string& plot : result.plots) {
+    EXPECT_THAT(html, HasSubstr("<img src=\"" + plot + "\""));
+    EXPECT_EQ(read(run / "report" / plot).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << plot;
+  }
+  const ReportResult bare = write_report(run, {.out = dir_ / "bare", .plots = false});
+  EXPECT_TRUE(bare.plots.empty());
+  EXPECT_THAT(read(bare.page), ::testing::Not(HasSubstr("<img")));
+}
+
+TEST_F(HtmlReportTest, NotARunDirectoryIsAClearError) {
+  EXPECT_THAT([&] { write_report(dir_ / "nope"); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not a directory")));
+  const fs::path run = rom_run();
+  fs::remove(run / "summary.json");
+  EXPECT_THAT([&] { write_report(run); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("summary.json: missing (is this a run directory?)")));
+  std::ofstream(run / "summary.json") << "{ not json";
+  EXPECT_THAT([&] { write_report(run); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("summary.json: invalid JSON")));
+}
+
+// Tracking metrics: each controller's RMSE beside the paper's 5.18 / 7.12 deg.
+TEST(MetricRows, TrackingRowsPutTheControllersBesideThePaper) {
+  const nlohmann::json summary = {
+      {"paper", {{"rmse_fe_deg", 5.18}, {"rmse_ur_deg", 7.12}}},
+      {"controllers",
+       {{{"controller", "paper"}, {"rmse_fe_deg", 6.39}, {"reachable_rmse_fe_deg", 5.79}, {"rmse_ur_deg", nullptr}}}}};
+  const auto rows = metric_rows("tracking", summary);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0][0], "paper: RMSE fe (reachable targets)");
+  EXPECT_EQ(rows[0][1], "6.39° (5.79°)");
+  EXPECT_EQ(rows[0][2], "5.18°");
+  EXPECT_EQ(html_escape("<a href=\"x\">&</a>"), "&lt;a href=&quot;x&quot;&gt;&amp;&lt;/a&gt;");
+}
+
+}  // namespace
+}  // namespace softwrist::report
