@@ -13,6 +13,7 @@
 #include "experiments/experiment.h"
 #include "experiments/tracking.h"
 #include "physics/units.h"
+#include "report/offscreen_renderer.h"
 #include "sim/device.h"
 #include "sim/model.h"
 #include "sim/model_builder.h"
@@ -201,6 +202,43 @@ int run_control_bench(const ControlBenchOptions& options, std::ostream& out) {
   return 0;
 }
 
+struct RenderBenchOptions {
+  int frames = 60;
+  bool json = false;
+};
+
+// Offscreen frames per second of the paper's device (OSMesa, software rendering, read back), the wrist sweeping
+// through flexion so that every frame differs; at 640x480 and, for scale, at 320x240 in the same run.
+int run_render_bench(const RenderBenchOptions& options, std::ostream& out) {
+  if (options.frames < 1) throw UsageError("--frames must be >= 1");
+  const sim::DeviceDescription device = sim::paper_device();
+  const auto plugins = sim::PluginSet::Default();
+  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(device), plugins, "paper device");
+  const sim::Data data = sim::make_data(model);
+  const int fe = model->jnt_qposadr[model.id(mjOBJ_JOINT, "wrist_fe")];
+  const double max_kpa = units::pa_to_kpa(device.regulator.max_pressure);
+  const auto frames_per_second = [&](int width, int height) {
+    report::OffscreenRenderer renderer(model, width, height);
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < options.frames; ++i) {
+      data->qpos[fe] = units::deg_to_rad(-60.0 + 120.0 * i / options.frames);
+      data->act[0] = max_kpa * i / options.frames;
+      mj_forward(model.get(), data.get());
+      (void)renderer.Render(data.get(), report::View::kRadial, max_kpa);
+    }
+    return options.frames / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const double full = frames_per_second(640, 480), quarter = frames_per_second(320, 240);
+  if (options.json) {
+    out << nlohmann::json{{"fps_640x480", full}, {"fps_320x240", quarter}, {"frames", options.frames}}.dump() << '\n';
+  } else {
+    out << fmt::format("offscreen rendering (OSMesa) of the paper's device, {} frames each\n", options.frames)
+        << fmt::format("  640x480 {:>7.1f} frames/s\n  320x240 {:>7.1f} frames/s (ratio {:.2f})\n", full, quarter,
+                       quarter / full);
+  }
+  return 0;
+}
+
 }  // namespace
 
 void add_bench_commands(CLI::App& app, std::ostream& out) {
@@ -234,6 +272,12 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   control_bench->add_flag("--json", control_options->json,
                           "Print {config, controllers: [{controller, real_time_factor, wall_s, cost_ratio, ...}]}");
   control_bench->callback([control_options, &out] { run_control_bench(*control_options, out); });
+
+  auto render_options = std::make_shared<RenderBenchOptions>();
+  auto* render_bench = bench->add_subcommand("render", "Offscreen frames per second (OSMesa) at 640x480 and 320x240");
+  render_bench->add_option("--frames", render_options->frames, "Frames per size");
+  render_bench->add_flag("--json", render_options->json, "Print {fps_640x480, fps_320x240, frames}");
+  render_bench->callback([render_options, &out] { run_render_bench(*render_options, out); });
 }
 
 }  // namespace softwrist::cli

@@ -1,4 +1,4 @@
-// `softwrist run`, `merge`, `personalize`, `bench optimize` and `bench control` from the command line.
+// `softwrist run`, `merge`, `personalize`, `bench optimize`, `bench control` and `bench render` from the command line.
 
 #include "cli/run_commands.h"
 
@@ -92,7 +92,7 @@ TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
 // The benchmark reports every controller of the config over the whole trajectory (110 s of planar steps), with
 // its real-time factor (the figure itself is the benchmark's business, not a test's); a config of another kind is
 // refused.
-TEST(CliBench, ControlRunsAheadOfRealTime) {
+TEST(CliBench, ControlReportsEveryControllerOverTheTrajectory) {
   const auto r = run({"bench", "control", "--json", "--config", (kSource / "experiments/planar_tracking.json").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
@@ -102,6 +102,17 @@ TEST(CliBench, ControlRunsAheadOfRealTime) {
     EXPECT_GT(c["real_time_factor"].get<double>(), 0.0);
   }
   EXPECT_EQ(j["controllers"][0]["controller"], "paper");
+}
+
+// The render benchmark draws real frames at both sizes and reports positive rates; a bad frame count is a usage
+// error.
+TEST(CliBench, RenderReportsFramesPerSecond) {
+  const auto r = run({"bench", "render", "--json", "--frames", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["fps_640x480"].get<double>(), 0.0);
+  EXPECT_GT(j["fps_320x240"].get<double>(), 0.0);
+  EXPECT_EQ(run({"bench", "render", "--frames", "0"}).code, 2);
   const auto wrong = run({"bench", "control", "--config", (kSource / "experiments/range_of_motion.json").string()});
   EXPECT_NE(wrong.code, 0);
   EXPECT_THAT(wrong.err, HasSubstr("is not a tracking experiment config"));
