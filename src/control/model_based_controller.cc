@@ -62,9 +62,7 @@ Pressures ModelBasedController::command(double t_s, const Reference& desired, co
     const double measured = units::deg_to_rad(angle_deg(reading.angles, i));
     // 1. Reference shaping within the reachable range.
     const double wanted = units::deg_to_rad(angle_deg(desired.angles, i));
-    const double upper = (axis == WristAxis::kFlexionExtension ? range_.flexion : range_.ulnar) - margin;
-    const double lower = -((axis == WristAxis::kFlexionExtension ? range_.extension : range_.radial) - margin);
-    const double target = std::clamp(wanted, std::min(lower, 0.0), std::max(upper, 0.0));
+    const double target = range_.clamp(axis, wanted, margin);
     unreachable_[static_cast<std::size_t>(i)] = std::abs(target - wanted) > 1e-9;
     if (first) {
       s.reference = measured;

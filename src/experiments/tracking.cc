@@ -56,13 +56,12 @@ control::ModelBasedParameters read_model_based_parameters(io::JsonReader& r, dou
   return p;
 }
 
-std::unique_ptr<control::Trajectory> read_trajectory(io::JsonReader& r, std::optional<control::StepTrajectory>& steps) {
+std::unique_ptr<control::Trajectory> read_trajectory(io::JsonReader& r) {
   const std::string type = r.text("type");
   if (type == "steps") {
     std::vector<control::WristAngles> levels;
     for (double fe : r.numbers("levels_fe_deg")) levels.push_back({.fe_deg = fe, .ur_deg = 0.0});
-    steps.emplace(levels, r.positive("hold_s", 10.0));
-    return std::make_unique<control::StepTrajectory>(*steps);
+    return std::make_unique<control::StepTrajectory>(std::move(levels), r.positive("hold_s", 10.0));
   }
   if (type == "sinusoid") {
     control::SinusoidParameters p;
@@ -104,7 +103,7 @@ std::unique_ptr<Tracking> Tracking::Create(const ExperimentConfig& config, io::J
   const double max_kpa = units::pa_to_kpa(e->device_->description.regulator.max_pressure);
   {
     io::JsonReader trajectory = reader.child("trajectory");
-    e->trajectory_ = read_trajectory(trajectory, e->steps_);
+    e->trajectory_ = read_trajectory(trajectory);
     trajectory.finish();
   }
   e->options_.active_axes = read_active_pairs(reader);
@@ -210,6 +209,11 @@ struct RunSeries {
   double max_command_kpa = 0.0;
 };
 
+// The log's axis index (0 flexion/extension, 1 ulnar/radial) as the physics core's axis.
+physics::WristAxis axis_of(int axis) {
+  return axis == 0 ? physics::WristAxis::kFlexionExtension : physics::WristAxis::kUlnarRadial;
+}
+
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 double mean_of(const std::vector<double>& v) {
@@ -249,11 +253,12 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
     for (int c : c_cmd) r.max_command_kpa = std::max(r.max_command_kpa, log.number(row, c));
   }
 
+  // Step metrics apply to a step sequence only.
+  const auto* step_trajectory = dynamic_cast<const control::StepTrajectory*>(trajectory_.get());
   const physics::ReachableRange reach = physics::reachable_range(
       sim::wrist_model(device_->description, gravity_), device_->description.regulator.max_pressure);
   const auto within_reach = [&](double fe_deg, double ur_deg, int axis) {
-    return axis == 0 ? reach.contains(physics::WristAxis::kFlexionExtension, units::deg_to_rad(fe_deg))
-                     : reach.contains(physics::WristAxis::kUlnarRadial, units::deg_to_rad(ur_deg));
+    return reach.contains(axis_of(axis), units::deg_to_rad(axis == 0 ? fe_deg : ur_deg));
   };
   // RMSE of one axis over all repetitions after the settling time; `reachable_only` keeps the samples whose
   // target the exosuit can hold.
@@ -290,9 +295,9 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
     for (const auto& [rep, r] : reps) max_command = std::max(max_command, r.max_command_kpa);
     c["max_command_kpa"] = max_command;
 
-    if (steps_) {
-      const auto& levels = steps_->levels();
-      const double hold = steps_->hold_s();
+    if (step_trajectory != nullptr) {
+      const auto& levels = step_trajectory->levels();
+      const double hold = step_trajectory->hold_s();
       nlohmann::json steps = nlohmann::json::array();
       std::map<std::string, std::vector<double>> rise, overshoot;  // by direction, reached steps only
       for (std::size_t k = 1; k < levels.size(); ++k) {
@@ -351,15 +356,13 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
     for (double t = settle_s_; t < trajectory_->duration_s(); t += step) {
       const control::WristAngles d = trajectory_->at(t);
       const double v = axis == 0 ? d.fe_deg : d.ur_deg;
-      const double upper = units::rad_to_deg(axis == 0 ? reach.flexion : reach.ulnar);
-      const double lower = -units::rad_to_deg(axis == 0 ? reach.extension : reach.radial);
       desired.push_back(v);
-      held.push_back(std::clamp(v, lower, upper));
+      held.push_back(units::rad_to_deg(reach.clamp(axis_of(axis), units::deg_to_rad(v))));
     }
     floor[axis == 0 ? "fe" : "ur"] = number_or_null(control::rms_error(desired, held));
   }
 
-  return {{"trajectory", steps_ ? "steps" : "sinusoid"},
+  return {{"trajectory", step_trajectory != nullptr ? "steps" : "sinusoid"},
           {"settle_s", settle_s_},
           {"hand_supported", gravity_ == 0.0},
           {"reachable_range_deg",

@@ -8,7 +8,6 @@
 
 #include <functional>
 #include <memory>
-#include <optional>
 
 #include "control/controller.h"
 #include "control/trajectory.h"
@@ -45,7 +44,6 @@ class Tracking final : public Experiment {
   std::unique_ptr<SimulatedDevice> device_;
   std::vector<ControllerSpec> controllers_;
   std::unique_ptr<control::Trajectory> trajectory_;
-  std::optional<control::StepTrajectory> steps_;  // when the trajectory is a step sequence
   control::TrackingOptions options_;
   sim::ImuModel imu_;
   double gravity_ = 9.81;     // [m/s^2], 0 with the hand supported

@@ -1,6 +1,8 @@
 #include "physics/wrist_statics.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace softwrist::physics {
 
@@ -44,10 +46,24 @@ double settled_angle(const WristModel& wrist, WristAxis axis, double direction, 
   return direction * limit;
 }
 
+namespace {
+
+// The range on one axis: {towards positive angles, towards negative angles}, each positive [rad].
+std::pair<double, double> extent(const ReachableRange& range, WristAxis axis) {
+  return axis == WristAxis::kFlexionExtension ? std::pair{range.flexion, range.extension}
+                                              : std::pair{range.ulnar, range.radial};
+}
+
+}  // namespace
+
 bool ReachableRange::contains(WristAxis axis, double angle, double margin) const {
-  const bool fe = axis == WristAxis::kFlexionExtension;
-  const double positive = fe ? flexion : ulnar, negative = fe ? extension : radial;
+  const auto [positive, negative] = extent(*this, axis);
   return angle <= positive - margin && angle >= -(negative - margin);
+}
+
+double ReachableRange::clamp(WristAxis axis, double angle, double margin) const {
+  const auto [positive, negative] = extent(*this, axis);
+  return std::clamp(angle, std::min(-(negative - margin), 0.0), std::max(positive - margin, 0.0));
 }
 
 ReachableRange reachable_range(const WristModel& wrist, double max_pressure) {

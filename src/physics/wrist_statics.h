@@ -49,6 +49,9 @@ struct ReachableRange {
   double flexion = 0.0, extension = 0.0, ulnar = 0.0, radial = 0.0;  // [rad], each positive
   // Whether `angle` [rad] on `axis` lies within the range, less `margin` [rad].
   bool contains(WristAxis axis, double angle, double margin = 0.0) const;
+  // The angle [rad] nearest to `angle` within the range less `margin`; never past neutral when the margin exceeds
+  // the range.
+  double clamp(WristAxis axis, double angle, double margin = 0.0) const;
 };
 ReachableRange reachable_range(const WristModel& wrist, double max_pressure);
 

@@ -5,10 +5,11 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "io/text_file.h"
 
 #include "support/scratch_dir_test.h"
 
@@ -19,13 +20,6 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 const fs::path kSource = SOFTWRIST_SOURCE_DIR;
-
-std::string read(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 class RunnerTest : public softwrist::testing::ScratchDirTest {
  protected:
@@ -56,11 +50,11 @@ TEST_F(RunnerTest, SameSeedSameNumbersForAnyThreadCount) {
   const auto two = run_experiment(config(), {.out = dir_ / "two", .jobs = 2});
   EXPECT_TRUE(one.complete);
   EXPECT_EQ(one.cases_run, 12);
-  EXPECT_EQ(read(dir_ / "one/trials.csv"), read(dir_ / "two/trials.csv"));
+  EXPECT_EQ(io::read_text_file(dir_ / "one/trials.csv"), io::read_text_file(dir_ / "two/trials.csv"));
   EXPECT_EQ(one.summary, two.summary);
   // Another seed gives other noise.
   const auto other = run_experiment(config(R"(, "sensor_noise": {"torque_std_nm": 0.02})"), {.out = dir_ / "three"});
-  EXPECT_NE(read(dir_ / "one/trials.csv"), read(dir_ / "three/trials.csv"));
+  EXPECT_NE(io::read_text_file(dir_ / "one/trials.csv"), io::read_text_file(dir_ / "three/trials.csv"));
   (void)other;
 }
 
@@ -76,8 +70,8 @@ TEST_F(RunnerTest, ShardsMergeToTheSingleRun) {
   }
   const auto merged = merge_runs({shards[2], shards[0], shards[1]}, dir_ / "merged");
   EXPECT_TRUE(merged.complete);
-  EXPECT_EQ(read(dir_ / "whole/trials.csv"), read(dir_ / "merged/trials.csv"));
-  EXPECT_EQ(read(dir_ / "whole/summary.json"), read(dir_ / "merged/summary.json"));
+  EXPECT_EQ(io::read_text_file(dir_ / "whole/trials.csv"), io::read_text_file(dir_ / "merged/trials.csv"));
+  EXPECT_EQ(io::read_text_file(dir_ / "whole/summary.json"), io::read_text_file(dir_ / "merged/summary.json"));
 
   try {
     merge_runs({shards[0], shards[2]}, dir_ / "incomplete");
@@ -108,7 +102,7 @@ TEST_F(RunnerTest, TheLogIsTheDocumentedFormat) {
   EXPECT_EQ(log.header.columns.front().name, "case");
   EXPECT_EQ(log.table.row_count(), 12u);
   EXPECT_THAT(log.header.model_hash, HasSubstr("fnv1a64:"));
-  const auto sidecar = nlohmann::json::parse(read(dir_ / "run/trials.json"));
+  const auto sidecar = nlohmann::json::parse(io::read_text_file(dir_ / "run/trials.json"));
   EXPECT_EQ(sidecar["format"], "softwrist.log/1");
   EXPECT_TRUE(sidecar.contains("software_version"));
   for (const auto& column : sidecar["columns"]) EXPECT_TRUE(column.contains("unit")) << column.dump();

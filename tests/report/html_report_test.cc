@@ -4,12 +4,12 @@
 #include "report/html_report.h"
 
 #include <fstream>
-#include <iterator>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "experiments/runner.h"
+#include "io/text_file.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::report {
@@ -18,11 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 const fs::path kSource = SOFTWRIST_SOURCE_DIR;
-
-std::string read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 class HtmlReportTest : public testing::ScratchDirTest {
  protected:
@@ -43,7 +38,7 @@ TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
   const fs::path run = rom_run();
   const ReportResult result = write_report(run);
   EXPECT_EQ(result.page, run / "report" / "index.html");
-  const std::string html = read(result.page);
+  const std::string html = io::read_text_file(result.page);
   EXPECT_THAT(html, HasSubstr("RoM &lt;quick&gt; &amp; small"));
   EXPECT_THAT(html, HasSubstr("<td>flexion range</td>"));
   EXPECT_THAT(html, HasSubstr("44.5° ± 7.5° (biological 80.9°)"));  // Table RoM, the paper's exosuit flexion
@@ -51,11 +46,11 @@ TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
   ASSERT_EQ(result.plots.size(), 1u);
   for (const std::string& plot : result.plots) {
     EXPECT_THAT(html, HasSubstr("<img src=\"" + plot + "\""));
-    EXPECT_EQ(read(run / "report" / plot).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << plot;
+    EXPECT_EQ(io::read_text_file(run / "report" / plot).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << plot;
   }
   const ReportResult bare = write_report(run, {.out = dir_ / "bare", .plots = false});
   EXPECT_TRUE(bare.plots.empty());
-  EXPECT_THAT(read(bare.page), ::testing::Not(HasSubstr("<img")));
+  EXPECT_THAT(io::read_text_file(bare.page), ::testing::Not(HasSubstr("<img")));
 }
 
 TEST_F(HtmlReportTest, NotARunDirectoryIsAClearError) {

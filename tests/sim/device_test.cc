@@ -2,30 +2,23 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/text_file.h"
 #include "sim/model_builder.h"
 
 namespace softwrist::sim {
 namespace {
 
-std::string read(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 const std::filesystem::path kModels = std::filesystem::path(SOFTWRIST_SOURCE_DIR) / "models";
 
 // The shipped default device is exactly what the code generates, so neither can rot.
 TEST(PaperDevice, ShippedPlacementFileAndModelMatchTheGenerator) {
-  EXPECT_EQ(read(kModels / "paper_device.json"), device_to_json(paper_device()));
-  EXPECT_EQ(read(kModels / "paper_device.xml"), build_model_xml(load_device(kModels / "paper_device.json")));
-  EXPECT_EQ(read(kModels / "rom_device.json"), device_to_json(rom_device()));
+  EXPECT_EQ(io::read_text_file(kModels / "paper_device.json"), device_to_json(paper_device()));
+  EXPECT_EQ(io::read_text_file(kModels / "paper_device.xml"), build_model_xml(load_device(kModels / "paper_device.json")));
+  EXPECT_EQ(io::read_text_file(kModels / "rom_device.json"), device_to_json(rom_device()));
 }
 
 // Table torque_measurement_parameters for the flexor, Table RoM for the other three.
