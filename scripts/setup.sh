@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs softwrist's build and run dependencies, all from Debian 12 packages. Quick (no apt-get at all) when
 # every package is already installed. Run as root or with sudo available.
+#   bash scripts/setup.sh          build and run dependencies
+#   bash scripts/setup.sh --tests  also what only the tests use: a headless browser and a virtual X display
 set -euo pipefail
 
 packages=(
@@ -16,7 +18,17 @@ packages=(
   libgtest-dev libgmock-dev       # tests
   libbenchmark-dev                # benchmarks
   python3-matplotlib              # report plots (softwrist report)
+  ffmpeg                          # videos of tracking runs (softwrist render --video); optional at run time
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(
+    chromium                      # the report opened in a headless browser
+    xvfb xauth libgl1-mesa-dri    # the GLFW viewer on a virtual display (xvfb-run), drawn by Mesa
+  )
+elif [ -n "${1:-}" ]; then
+  echo "usage: $0 [--tests]" >&2
+  exit 2
+fi
 
 missing=()
 for package in "${packages[@]}"; do

@@ -4,7 +4,7 @@
 #   bash scripts/test.sh --sanitize  the same tests under AddressSanitizer + UndefinedBehaviorSanitizer (build/asan)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh --tests
 
 build_dir=build/test
 options=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOFTWRIST_WERROR=ON)

@@ -1,8 +1,5 @@
 #include "report/html_report.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <array>
 #include <cstdlib>
 #include <fstream>
@@ -10,9 +7,10 @@
 
 #include <fmt/format.h>
 
+#include "io/subprocess.h"
 #include "io/text_file.h"
-
-extern char** environ;
+#include "report/pose_renderer.h"
+#include "report/run_moments.h"
 
 namespace softwrist::report {
 namespace {
@@ -60,21 +58,18 @@ std::string python() {
   return "python3";
 }
 
-// Runs the plot script (no shell: paths are passed as they are).
 void run_plots(const fs::path& run_dir, const fs::path& out) {
-  const std::string interpreter = python(), script = plot_script().string(), run = run_dir.string(),
-                    dir = out.string();
-  std::array<char*, 5> argv = {const_cast<char*>(interpreter.c_str()), const_cast<char*>(script.c_str()),
-                               const_cast<char*>(run.c_str()), const_cast<char*>(dir.c_str()), nullptr};
-  pid_t pid = 0;
-  if (posix_spawnp(&pid, interpreter.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-    throw std::runtime_error("report: cannot run python3 (install python3 and python3-matplotlib, or use --no-plots)");
+  const fs::path script = plot_script();
+  int code = 0;
+  try {
+    code = io::run_process({python(), script.string(), run_dir.string(), out.string()});
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("report: {} (install python3 and python3-matplotlib, or use --no-plots)", e.what()));
   }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  if (code != 0) {
     throw std::runtime_error(fmt::format(
-        "report: plotting failed ({} exited with {}); is python3-matplotlib installed? (or use --no-plots)", script,
-        WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+        "report: plotting failed ({} exited with {}); is python3-matplotlib installed? (or use --no-plots)",
+        script.string(), code));
   }
 }
 
@@ -170,7 +165,8 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
 body {{ font-family: sans-serif; max-width: 1000px; margin: 2em auto; color: #222; }}
 table {{ border-collapse: collapse; margin: 1em 0; }} td, th {{ border: 1px solid #ccc; padding: 4px 10px; text-align: left; }}
 th {{ background: #f0f0f0; }} figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
-figcaption {{ color: #555; font-size: 0.9em; }} pre {{ background: #f7f7f7; padding: 1em; overflow-x: auto; }}
+figcaption {{ color: #555; font-size: 0.9em; }} .missing {{ color: #b00; font-weight: bold; }}
+.renders {{ display: grid; grid-template-columns: 1fr 1fr; gap: 0 1.5em; }} pre {{ background: #f7f7f7; padding: 1em; overflow-x: auto; }}
 </style></head><body>
 <h1>{0}</h1>
 <p>{1}</p>
@@ -193,6 +189,24 @@ figcaption {{ color: #555; font-size: 0.9em; }} pre {{ background: #f7f7f7; padd
     html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
                         html_escape(file), html_escape(plot.value("caption", "")));
   }
+  if (options.renders) {
+    const RunMoments run = run_moments(run_dir);
+    if (!run.moments.empty()) {
+      html += "<h2>Renders</h2>\n<p>Offscreen (OSMesa) renders of the simulated device; each muscle is drawn along its "
+              "tendon path, coloured by its pressure from blue (0) to red (the regulator's maximum).</p>\n"
+              "<div class=\"renders\">\n";
+      PoseRenderer renderer(run.device, 480, 360);
+      for (const Moment& moment : run.moments) {
+        const std::string file = "render_" + moment.name + ".png";
+        write_png(renderer.Render(moment.pose, moment.view), out / file);
+        result.renders.push_back(file);
+        html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1} ({2} view)</figcaption></figure>\n",
+                            html_escape(file), html_escape(moment.caption),
+                            moment.view == View::kRadial ? "radial" : "palmar");
+      }
+      html += "</div>\n";
+    }
+  }
   html += "<h2>What was run</h2>\n<table>\n";
   for (const char* key : {"source", "config_hash", "model_hash", "software_version", "cases", "format"}) {
     if (!sidecar.contains(key)) continue;
@@ -200,8 +214,24 @@ figcaption {{ color: #555; font-size: 0.9em; }} pre {{ background: #f7f7f7; padd
     html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", key, html_escape(v.is_string() ? v.get<std::string>() : v.dump()));
   }
   html += fmt::format("</table>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
-  html += fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n</body></html>\n",
-                      html_escape(summary.dump(2)));
+  html += fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n", html_escape(summary.dump(2)));
+  // A plot or render that did not load says so on the page (a moved page without its PNGs, say); the count of
+  // loaded images is on <body data-images> for the headless-browser test.
+  html += R"(<script>
+window.addEventListener("load", () => {
+  const images = Array.from(document.images);
+  const missing = images.filter((img) => !img.complete || img.naturalWidth === 0);
+  for (const img of missing) {
+    const note = document.createElement("p");
+    note.className = "missing";
+    note.textContent = "image missing: " + img.getAttribute("src");
+    img.replaceWith(note);
+  }
+  document.body.dataset.images = (images.length - missing.length) + "/" + images.length;
+});
+</script>
+</body></html>
+)";
   std::ofstream(result.page) << html;
   if (!fs::is_regular_file(result.page)) throw std::runtime_error(result.page.string() + ": could not be written");
   return result;

@@ -1,7 +1,8 @@
 #pragma once
 // `softwrist report`: one HTML page per run directory, with the PNGs beside it. What was run (config, model and
 // config hashes, software version), the metrics next to the paper's, and plots made by matplotlib from the run's
-// own files (plot_run.py, run with python3). Every number on the page comes from the run directory.
+// own files (plot_run.py, run with python3), and offscreen renders of the run's moments (run_moments.h). Every
+// number on the page comes from the run directory.
 
 #include <filesystem>
 #include <string>
@@ -14,11 +15,13 @@ namespace softwrist::report {
 struct ReportOptions {
   std::filesystem::path out;  // default: <run>/report
   bool plots = true;          // false: the page without plots (no python3 needed)
+  bool renders = true;        // false: the page without renders of the run's moments (no OSMesa needed)
 };
 
 struct ReportResult {
   std::filesystem::path page;
-  std::vector<std::string> plots;  // file names beside the page
+  std::vector<std::string> plots;    // file names beside the page
+  std::vector<std::string> renders;  // file names beside the page
 };
 
 // Throws std::runtime_error naming the problem: not a run directory, a missing or malformed trials.json or

@@ -52,6 +52,12 @@ void WristSim::run_held(double duration, double fe, double ur) {
   mj_forward(model_.get(), data_.get());
 }
 
+void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa) {
+  hold(fe, ur);
+  for (int i = 0; i < 4; ++i) data_->ctrl[i] = data_->act[i] = pressures_kpa[static_cast<std::size_t>(i)];
+  mj_forward(model_.get(), data_.get());
+}
+
 double WristSim::angle(WristJoint joint) const { return data_->qpos[qpos_address_[static_cast<int>(joint)]]; }
 double WristSim::velocity(WristJoint joint) const { return data_->qvel[dof_address_[static_cast<int>(joint)]]; }
 

@@ -29,6 +29,9 @@ class WristSim {
   // Advances `duration` [s] with the wrist held at (fe, ur) [rad], as on the torque rig: the regulators fill the
   // muscles while the joints stay put.
   void run_held(double duration, double fe, double ur);
+  // Puts the wrist at rest at (fe, ur) [rad] with the regulators at `pressures_kpa` (commanded and regulated alike),
+  // and computes the state there without advancing time: a pose to draw or to inspect.
+  void set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa);
 
   double time() const { return data_->time; }
   double angle(WristJoint joint) const;     // [rad]

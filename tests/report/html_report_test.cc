@@ -5,10 +5,13 @@
 
 #include <fstream>
 
+#include <fmt/format.h>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "experiments/runner.h"
+#include "io/subprocess.h"
 #include "io/text_file.h"
 #include "support/scratch_dir_test.h"
 
@@ -48,9 +51,44 @@ TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
     EXPECT_THAT(html, HasSubstr("<img src=\"" + plot + "\""));
     EXPECT_EQ(io::read_text_file(run / "report" / plot).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << plot;
   }
-  const ReportResult bare = write_report(run, {.out = dir_ / "bare", .plots = false});
+  // The renders: each muscle settled (first repetition), an <img> each.
+  EXPECT_EQ(result.renders, (std::vector<std::string>{"render_rom_flexor.png", "render_rom_extensor.png",
+                                                       "render_rom_ulnar.png", "render_rom_radial.png"}));
+  for (const std::string& render : result.renders) EXPECT_THAT(html, HasSubstr("<img src=\"" + render + "\""));
+  EXPECT_THAT(html, HasSubstr("The flexor alone at 137 kPa, settled"));
+  const ReportResult bare = write_report(run, {.out = dir_ / "bare", .plots = false, .renders = false});
   EXPECT_TRUE(bare.plots.empty());
+  EXPECT_TRUE(bare.renders.empty());
   EXPECT_THAT(io::read_text_file(bare.page), ::testing::Not(HasSubstr("<img")));
+}
+
+// The page in a real browser (Debian's chromium, headless; scripts/test.sh installs it): the page's own check
+// counts the images that loaded into <body data-images>, and a missing PNG is named on the page. A screenshot is
+// taken as well (the page renders at all).
+TEST_F(HtmlReportTest, OpensInHeadlessChromiumWithEveryImageLoaded) {
+  if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "Debian's chromium is not installed (scripts/test.sh installs it)";
+  const fs::path run = rom_run();
+  const ReportResult report = write_report(run);
+  const auto chromium = [&](const std::vector<std::string>& args, const fs::path& output) {
+    std::vector<std::string> argv = {"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu",
+                                     "--user-data-dir=" + (dir_ / "chromium-profile").string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    argv.push_back("file://" + report.page.string());
+    return io::run_process(argv, {.stdout_file = output, .stderr_file = dir_ / "chromium.log"});
+  };
+  const std::size_t images = report.plots.size() + report.renders.size();
+  ASSERT_EQ(images, 5u);
+  ASSERT_EQ(chromium({"--dump-dom", "--virtual-time-budget=10000"}, dir_ / "dom.html"), 0)
+      << io::read_text_file(dir_ / "chromium.log");
+  EXPECT_THAT(io::read_text_file(dir_ / "dom.html"), HasSubstr(fmt::format("<body data-images=\"{0}/{0}\">", images)));
+  ASSERT_EQ(chromium({"--screenshot=" + (dir_ / "page.png").string(), "--window-size=1000,1600"}, dir_ / "out.txt"), 0);
+  EXPECT_EQ(io::read_text_file(dir_ / "page.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+
+  fs::remove(run / "report" / report.renders.front());
+  ASSERT_EQ(chromium({"--dump-dom", "--virtual-time-budget=10000"}, dir_ / "dom.html"), 0);
+  const std::string dom = io::read_text_file(dir_ / "dom.html");
+  EXPECT_THAT(dom, HasSubstr(fmt::format("<body data-images=\"{}/{}\">", images - 1, images)));
+  EXPECT_THAT(dom, HasSubstr("image missing: " + report.renders.front()));
 }
 
 TEST_F(HtmlReportTest, NotARunDirectoryIsAClearError) {
