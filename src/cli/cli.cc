@@ -11,6 +11,7 @@
 #include "cli/render_command.h"
 #include "cli/report_command.h"
 #include "cli/run_commands.h"
+#include "cli/view_command.h"
 #include "physics/errors.h"
 
 namespace softwrist::cli {
@@ -28,6 +29,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_report_command(app, out);
   add_run_commands(app, out, err);
   add_personalize_command(app, out);
+  add_view_command(app, out);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

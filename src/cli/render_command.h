@@ -1,5 +1,6 @@
 #pragma once
-// `softwrist render`: a PNG of the wrist model at given angles and pressures, rendered offscreen (OSMesa).
+// `softwrist render`: PNGs of the wrist model, rendered offscreen (OSMesa): a pose of a device, the moments of a
+// run, or a video of a tracking run (ffmpeg).
 
 #include <ostream>
 

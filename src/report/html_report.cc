@@ -202,7 +202,7 @@ figcaption {{ color: #555; font-size: 0.9em; }} .missing {{ color: #b00; font-we
         result.renders.push_back(file);
         html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1} ({2} view)</figcaption></figure>\n",
                             html_escape(file), html_escape(moment.caption),
-                            moment.view == View::kRadial ? "radial" : "palmar");
+                            view_name(moment.view));
       }
       html += "</div>\n";
     }

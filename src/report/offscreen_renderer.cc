@@ -58,39 +58,22 @@ OffscreenRenderer::~OffscreenRenderer() {
 Image OffscreenRenderer::Render(const mjData* data, View view, double max_pressure_kpa) {
   Impl& r = *impl_;
   mjvCamera camera;
-  mjv_defaultCamera(&camera);
-  camera.type = mjCAMERA_FREE;
-  camera.lookat[0] = -0.02;
-  camera.distance = 0.62;
-  // The flexion/extension axis is vertical: the radial view looks down it; the palmar view looks along ulnar/radial
-  // deviation's axis at the palm.
-  camera.azimuth = view == View::kRadial ? 90.0 : -90.0;
-  camera.elevation = view == View::kRadial ? -65.0 : -5.0;
+  set_view_camera(view, &camera);
   mjv_updateScene(r.model, const_cast<mjData*>(data), &r.option, nullptr, &camera, mjCAT_ALL, &r.scene);
-  // Each muscle's colour: its regulated pressure from blue (0) to red (max).
-  for (int i = 0; i < r.scene.ngeom; ++i) {
-    mjvGeom& geom = r.scene.geoms[i];
-    if (geom.objtype != mjOBJ_TENDON) continue;
-    for (int u = 0; u < r.model->nu; ++u) {
-      if (r.model->actuator_trntype[u] != mjTRN_TENDON || r.model->actuator_trnid[2 * u] != geom.objid) continue;
-      const int act = u - (r.model->nu - r.model->na);
-      const double pressure = act >= 0 ? data->act[act] : data->ctrl[u];
-      const float s = static_cast<float>(std::clamp(pressure / max_pressure_kpa, 0.0, 1.0));
-      geom.rgba[0] = 0.15f + 0.8f * s;
-      geom.rgba[1] = 0.25f * (1.0f - s);
-      geom.rgba[2] = 0.9f * (1.0f - s);
-      geom.rgba[3] = 1.0f;
-    }
-  }
+  colour_muscles_by_pressure(r.model, data, max_pressure_kpa, &r.scene);
   const mjrRect viewport = {0, 0, r.width, r.height};
   mjr_render(viewport, &r.scene, &r.render_context);
-  Image image{r.width, r.height, std::vector<unsigned char>(static_cast<std::size_t>(r.width * r.height * 3))};
+  return read_pixels(r.render_context, r.width, r.height);
+}
+
+Image read_pixels(const mjrContext& context, int width, int height) {
+  Image image{width, height, std::vector<unsigned char>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)};
   std::vector<unsigned char> bottom_up(image.rgb.size());
-  mjr_readPixels(bottom_up.data(), nullptr, viewport, &r.render_context);
-  const std::size_t row = static_cast<std::size_t>(r.width) * 3;
-  for (int y = 0; y < r.height; ++y) {
-    std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(r.height - 1 - y)),
-                row, image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)));
+  mjr_readPixels(bottom_up.data(), nullptr, {0, 0, width, height}, &context);
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y) {
+    std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(height - 1 - y)), row,
+                image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)));
   }
   return image;
 }

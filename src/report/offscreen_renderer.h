@@ -10,11 +10,10 @@
 
 #include <mujoco/mujoco.h>
 
+#include "report/scene_style.h"
 #include "sim/model.h"
 
 namespace softwrist::report {
-
-enum class View { kRadial, kPalmar };
 
 struct Image {
   int width = 0, height = 0;
@@ -37,6 +36,9 @@ class OffscreenRenderer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The current buffer of a MuJoCo rendering context (offscreen or window), top row first.
+Image read_pixels(const mjrContext& context, int width, int height);
 
 // Writes an 8-bit RGB PNG (libpng). Throws std::runtime_error naming the file on failure.
 void write_png(const Image& image, const std::filesystem::path& path);
