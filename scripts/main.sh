@@ -3,8 +3,9 @@
 #   the analytic model's tables (flexor torque three ways; modeled range of motion beside the paper's),
 #   the paper's experiments in simulation (torque validation, range of motion, design optimization with the
 #   minimum-pressure search; planar steps and spatial tracking with the paper's and the model-based controller),
-#   each a run directory with its trial log, summary.json and an HTML report (report/index.html),
-#   and two offscreen renders of the paper's device.
+#   each a run directory with its trial log, summary.json and an HTML report (report/index.html, with plots and
+#   renders of the run's moments), two offscreen renders of the paper's device, and a video of the model-based
+#   controller on the planar steps (4x real time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -18,3 +19,6 @@ for experiment in torque_validation range_of_motion design_optimization planar_t
 done
 $softwrist render --fe-deg 30 --pressures-kpa 137,10,0,0 --view radial --out out/main/flexor_137kpa_radial.png
 $softwrist render --ur-deg 15 --pressures-kpa 0,0,137,20 --view palmar --out out/main/ulnar_137kpa_palmar.png
+# Case 3: the model-based controller's first repetition (cases: the paper's controller x3, then model-based x3).
+$softwrist render --run out/main/planar_tracking --video out/main/planar_tracking/model_based_steps.mp4 --case 3 \
+  --speed 4 --width 480 --height 360

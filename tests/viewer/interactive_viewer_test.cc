@@ -3,7 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
-#include <regex>
+#include <cstdlib>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -32,16 +32,21 @@ std::uint32_t big_endian(const std::string& bytes, std::size_t at) {
 TEST_F(ViewUnderXvfb, DrawsSimulatesAndSavesAScreenshot) {
   if (!fs::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/test.sh installs it)";
   const fs::path shot = dir_ / "view.png";
-  const int code = io::run_process({"xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", SOFTWRIST_BINARY, "view",
+  // In the sanitizer build, leak checking is off for this one child: Mesa's llvmpipe leaves 112 bytes in libLLVM,
+  // which is unloaded with the GL driver before LeakSanitizer runs, so no suppression can name it. Memory errors
+  // are still checked; the viewer's state and overlay are leak-checked in-process (viewer_state_test).
+  const char* asan = std::getenv("ASAN_OPTIONS");
+  const std::string asan_options = "ASAN_OPTIONS=" + std::string(asan != nullptr ? asan : "") + ":detect_leaks=0";
+  const int code = io::run_process({"env", asan_options, "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", SOFTWRIST_BINARY, "view",
                                     "--frames", "90", "--screenshot", shot.string(), "--pressures-kpa", "137,0,0,0",
                                     "--width", "640", "--height", "480"},
                                    {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
   ASSERT_EQ(code, 0) << io::read_text_file(dir_ / "err.txt");
   const std::string out = io::read_text_file(dir_ / "out.txt");
   EXPECT_THAT(out, HasSubstr("90 frames, 1.50 s simulated"));
-  std::smatch flexion;
-  ASSERT_TRUE(std::regex_search(out, flexion, std::regex(R"(wrist_fe:\s+(-?[0-9.]+) deg)"))) << out;
-  EXPECT_GT(std::stod(flexion[1]), 15.0) << out;
+  const std::size_t flexion = out.find("wrist_fe:");
+  ASSERT_NE(flexion, std::string::npos) << out;
+  EXPECT_GT(std::stod(out.substr(flexion + 9)), 15.0) << out;  // "wrist_fe:   34.9 deg, ..."
   const std::string png = io::read_text_file(shot);
   ASSERT_GT(png.size(), 24u);
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
