@@ -24,6 +24,7 @@ if [ "${1:-}" = "--tests" ]; then
   packages+=(
     chromium                      # the report opened in a headless browser
     xvfb xauth libgl1-mesa-dri    # the GLFW viewer on a virtual display (xvfb-run), drawn by Mesa
+    gcc-avr binutils-avr avr-libc arduino-core-avr  # the Arduino Uno firmware, compiled so that it cannot rot
   )
 elif [ -n "${1:-}" ]; then
   echo "usage: $0 [--tests]" >&2
