@@ -50,6 +50,7 @@ SerialPort SerialPort::Open(const std::filesystem::path& device, int baud) {
   if (fd < 0) fail(device.string(), "cannot open");
   SerialPort port(fd, device.string());
   make_raw(fd, speed, port.name_);
+  tcflush(fd, TCIOFLUSH);  // whatever the device sent before we listened is stale
   return port;
 }
 
@@ -73,17 +74,31 @@ SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
 }
 
 void SerialPort::write_all(const char* data, std::size_t size) {
+  // Bounded: a device that stops reading must not hang the host (its watchdog vents while we give up).
+  constexpr int kWriteTimeoutMs = 500;
+  int waited_ms = 0;
   while (size > 0) {
-    const ssize_t n = write(fd_, data, size);
-    if (n < 0 && (errno == EINTR || errno == EAGAIN)) {
+    const std::size_t n = write_some(data, size);
+    if (n == 0) {
+      if (waited_ms >= kWriteTimeoutMs) {
+        throw std::runtime_error(fmt::format("{}: write timed out after {} ms (the other side is not reading)",
+                                             name_, kWriteTimeoutMs));
+      }
       pollfd p{fd_, POLLOUT, 0};
       poll(&p, 1, 10);
+      waited_ms += 10;
       continue;
     }
-    if (n <= 0) fail(name_, "write failed");
     data += n;
-    size -= static_cast<std::size_t>(n);
+    size -= n;
   }
+}
+
+std::size_t SerialPort::write_some(const char* data, std::size_t size) {
+  const ssize_t n = write(fd_, data, size);
+  if (n >= 0) return static_cast<std::size_t>(n);
+  if (errno == EINTR || errno == EAGAIN) return 0;
+  fail(name_, "write failed (the link is gone)");
 }
 
 std::size_t SerialPort::read_some(char* buffer, std::size_t size, int timeout_ms) {

@@ -21,8 +21,11 @@ class SerialPort {
   SerialPort(const SerialPort&) = delete;
   SerialPort& operator=(const SerialPort&) = delete;
 
-  // Writes every byte; throws when the link is gone.
+  // Writes every byte; throws when the link is gone or the other side has not read for 0.5 s.
   void write_all(const char* data, std::size_t size);
+  // Writes what fits now without waiting; returns how many bytes (0: the link's buffer is full). Throws when the
+  // link is gone. A device drops what does not fit, as a UART would.
+  std::size_t write_some(const char* data, std::size_t size);
   // Waits up to `timeout_ms` for bytes; returns how many were read (0: none in time). Throws when the link is gone
   // (the device unplugged, the emulator closed).
   std::size_t read_some(char* buffer, std::size_t size, int timeout_ms);

@@ -10,6 +10,7 @@ namespace softwrist::control {
 
 // Flexor, extensor, ulnar, radial (the order of the model's actuators).
 using Pressures = std::array<double, 4>;
+inline constexpr std::array<const char*, 4> kMuscleNames = {"flexor", "extensor", "ulnar", "radial"};
 
 struct WristAngles {
   double fe_deg = 0.0;  // flexion positive

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 namespace softwrist::control {
 namespace {
 
@@ -24,6 +26,16 @@ class ReachWatch {
   double tolerance_deg_, dwell_s_;
   double since_ = -1.0;
 };
+
+void stop_if_out_of_range(Plant& plant, const Controller& controller, double t, const Pressures& command) {
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (std::isfinite(command[i]) && command[i] >= 0.0 && command[i] <= plant.max_pressure_kpa()) continue;
+    plant.command_pressures_kpa({0.0, 0.0, 0.0, 0.0});
+    throw ControllerFault(fmt::format("controller '{}' asked for {} kPa on the {} at t = {:.3f} s, outside the "
+                                      "regulators' 0-{} kPa: vented and stopped",
+                                      controller.name(), command[i], kMuscleNames[i], t, plant.max_pressure_kpa()));
+  }
+}
 
 }  // namespace
 
@@ -53,6 +65,7 @@ long run_tracking(Plant& plant, Controller& controller, const Trajectory& trajec
     sample.reading.angles.ur_deg -= zero.ur_deg;
     sample.reading.time_s -= start;
     sample.command = controller.command(t, sample.desired, sample.reading);
+    if (options.out_of_range == TrackingOptions::OutOfRange::kStop) stop_if_out_of_range(plant, controller, t, sample.command);
     for (std::size_t i = 0; i < 4; ++i) {
       const double p = options.active_axes[i / 2] ? sample.command[i] : 0.0;
       sample.command[i] = std::isfinite(p) ? std::clamp(p, 0.0, max_kpa) : 0.0;

@@ -12,13 +12,25 @@
 // the regulator's maximum for `unreachable_dwell_s` while the error stayed above `unreachable_tolerance_deg`.
 
 #include <functional>
+#include <stdexcept>
 
 #include "control/controller.h"
 #include "control/trajectory.h"
 
 namespace softwrist::control {
 
+// A controller asked for a pressure outside the regulator range (or NaN) under OutOfRange::kStop.
+class ControllerFault : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct TrackingOptions {
+  // What a command outside [0, max] kPa or NaN means. The simulation clamps it, as the regulators would saturate.
+  // A hardware trial stops instead: such a command is a controller bug, and next to a person's arm the plant is
+  // vented and run_tracking throws ControllerFault naming the muscle and the value.
+  enum class OutOfRange { kClamp, kStop };
+  OutOfRange out_of_range = OutOfRange::kClamp;
   bool zero_at_start = true;
   // The pairs the controller drives; an inactive pair's muscles are vented (0 kPa), as in the paper's planar task
   // with two muscles.

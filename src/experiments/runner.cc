@@ -47,19 +47,21 @@ class Progress {
   int last_decile_ = -1;
 };
 
-std::vector<Column> log_columns(const Experiment& experiment) {
-  std::vector<Column> columns = {{"case", "", "index of the case in the experiment"}};
-  for (auto& c : experiment.columns()) columns.push_back(c);
-  return columns;
-}
-
 void write_summary(const std::filesystem::path& out, const nlohmann::json& summary) {
   std::ofstream file(out / "summary.json");
   file << summary.dump(2) << '\n';
   if (!file) throw std::runtime_error((out / "summary.json").string() + ": cannot write");
 }
 
-nlohmann::json summarize_log(const Experiment& experiment, const std::filesystem::path& out,
+}  // namespace
+
+std::vector<Column> log_columns(const Experiment& experiment) {
+  std::vector<Column> columns = {{"case", "", "index of the case in the experiment"}};
+  for (auto& c : experiment.columns()) columns.push_back(c);
+  return columns;
+}
+
+nlohmann::json summarize_run(const Experiment& experiment, const std::filesystem::path& out,
                              const LogHeader& header) {
   const TrialLog log = read_log(out, kTrialLogName);
   nlohmann::json summary = {{"kind", header.kind}, {"config_hash", header.config_hash},
@@ -68,8 +70,6 @@ nlohmann::json summarize_log(const Experiment& experiment, const std::filesystem
   write_summary(out, summary);
   return summary;
 }
-
-}  // namespace
 
 std::pair<int, int> parse_shard(const std::string& text) {
   int k = 0, n = 0;
@@ -120,7 +120,7 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
       [&](int done) { progress.update(done); });
 
   RunResult result{.cases_run = static_cast<int>(cases.size()), .complete = options.shard_count == 1};
-  if (result.complete) result.summary = summarize_log(*experiment, options.out, header);
+  if (result.complete) result.summary = summarize_run(*experiment, options.out, header);
   return result;
 }
 
@@ -187,7 +187,7 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
       }
     }
   }
-  return {.cases_run = first.case_count, .complete = true, .summary = summarize_log(*experiment, out, header)};
+  return {.cases_run = first.case_count, .complete = true, .summary = summarize_run(*experiment, out, header)};
 }
 
 }  // namespace softwrist::experiments

@@ -38,6 +38,11 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
 // and writes its summary. Throws std::runtime_error naming the directory and the problem.
 RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out);
 
+// The log's columns: "case", then the experiment's.
+std::vector<Column> log_columns(const Experiment& experiment);
+// Reads the run's complete log back, summarises it and writes summary.json (with the header's provenance).
+nlohmann::json summarize_run(const Experiment& experiment, const std::filesystem::path& out, const LogHeader& header);
+
 // Parses "K/N" (1 <= K <= N); throws std::invalid_argument otherwise.
 std::pair<int, int> parse_shard(const std::string& text);
 

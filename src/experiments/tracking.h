@@ -18,6 +18,11 @@
 
 namespace softwrist::experiments {
 
+// The columns every tracking log has, whatever ran it (the simulation adds the true joint angles, a hardware trial
+// the measured pressures), and one loop iteration's row in them.
+std::vector<Column> tracking_columns();
+Row tracking_row(int repetition, const std::string& controller, const control::TrackingSample& sample);
+
 class Tracking final : public Experiment {
  public:
   static std::unique_ptr<Tracking> Create(const ExperimentConfig& config, io::JsonReader& reader);
@@ -35,6 +40,9 @@ class Tracking final : public Experiment {
   // A new simulated plant with the config's IMU model for this seed.
   sim::SimulatedPlant make_plant(std::uint64_t imu_seed) const;
   const control::TrackingOptions& options() const { return options_; }
+  int repetitions() const { return repetitions_; }
+  // How long the wrist rests vented before each run [s].
+  double rest_s() const { return rest_s_; }
 
  private:
   struct ControllerSpec {
@@ -48,6 +56,7 @@ class Tracking final : public Experiment {
   sim::ImuModel imu_;
   double gravity_ = 9.81;     // [m/s^2], 0 with the hand supported
   double settle_s_ = 3.0;     // excluded from the RMSE
+  double rest_s_ = 3.0;       // vented before each run, for the wrist to come to rest before zeroing
   int repetitions_ = 3;
   std::uint64_t seed_ = 1;
 };

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "control/plant.h"
 #include "physics/muscle_torque.h"
 #include "physics/units.h"
 
@@ -16,7 +17,7 @@ namespace softwrist::sim {
 
 // The four muscles, in the order of the model's tendons and actuators.
 enum MuscleIndex { kFlexor = 0, kExtensor = 1, kUlnar = 2, kRadial = 3 };
-inline constexpr std::array<const char*, 4> kMuscleNames = {"flexor", "extensor", "ulnar", "radial"};
+using control::kMuscleNames;
 // The muscle of that name (kMuscleNames), or nullopt.
 std::optional<MuscleIndex> muscle_from_name(std::string_view name);
 

@@ -1,0 +1,326 @@
+#include "bridge/device_emulator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <random>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "bridge/device_protocol.h"
+#include "experiments/simulated_device.h"
+#include "io/json_reader.h"
+#include "io/text_file.h"
+#include "physics/units.h"
+#include "sim/simulated_plant.h"
+
+namespace softwrist::bridge {
+namespace {
+
+constexpr std::uint32_t kDataPeriodMs = 10;  // 100 Hz, as the firmware
+
+int32_t to_fixed(double value, double scale) { return static_cast<int32_t>(std::lround(value * scale)); }
+
+}  // namespace
+
+EmulatorConfig default_emulator_config(const std::filesystem::path& models_dir) {
+  EmulatorConfig c;
+  c.model = models_dir / "rom_device.json";
+  return c;
+}
+
+EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
+  const nlohmann::json json = io::parse_json(io::read_text_file(path), path.string());
+  io::JsonReader r(json, path.string(), "");
+  if (const std::string format = r.text("format"); format != kEmulatorFormat) {
+    r.fail("format", fmt::format("'{}' is not '{}'", format, kEmulatorFormat));
+  }
+  (void)r.text("description", "");
+  EmulatorConfig c;
+  const std::filesystem::path model = r.text("model");
+  c.model = model.is_absolute() ? model : std::filesystem::absolute(path).parent_path() / model;
+  c.gravity = r.boolean("hand_supported", false) ? 0.0 : 9.81;
+  const long long seed = r.integer("seed", 1);
+  if (seed < 0) r.fail("seed", "must be >= 0");
+  c.seed = static_cast<std::uint64_t>(seed);
+  if (r.has("effects")) {
+    io::JsonReader e = r.child("effects");
+    if (e.has("mount_stretch")) {
+      io::JsonReader m = e.child("mount_stretch");
+      // Placement-file units (docs/placement-file.md): N/cm^2.
+      c.effects.mount_stiffness = physics::MountStiffness{.forearm = m.positive("K1_n_per_cm2") * 1e4,
+                                                          .hand = m.positive("K2_n_per_cm2") * 1e4};
+      m.finish();
+    }
+    if (e.has("regulator_lag")) {
+      io::JsonReader g = e.child("regulator_lag");
+      if (g.has("time_constant_s")) c.effects.regulator_time_constant_s = g.positive("time_constant_s");
+      c.effects.regulator_dead_time_s = g.non_negative("dead_time_s", 0.0);
+      if (c.effects.regulator_dead_time_s > 1.0) g.fail("dead_time_s", "is above 1 s");
+      g.finish();
+    }
+    if (e.has("imu")) {
+      io::JsonReader i = e.child("imu");
+      c.effects.imu_noise_std_deg = i.non_negative("noise_std_deg", 0.0);
+      c.effects.imu_bias_fe_deg = i.number("bias_fe_deg", 0.0);
+      c.effects.imu_bias_ur_deg = i.number("bias_ur_deg", 0.0);
+      c.effects.imu_latency_s = i.non_negative("latency_s", 0.0);
+      if (c.effects.imu_latency_s > 1.0) i.fail("latency_s", "is above 1 s");
+      if (std::abs(c.effects.imu_bias_fe_deg) > 45 || std::abs(c.effects.imu_bias_ur_deg) > 45) {
+        i.fail("bias_fe_deg", "biases must be within +-45 deg");
+      }
+      i.finish();
+    }
+    e.finish();
+  }
+  if (r.has("faults")) {
+    io::JsonReader f = r.child("faults");
+    // A time in seconds after the first hello, or -1 (never) when absent.
+    const auto when = [&f](const std::string& key) { return f.has(key) ? f.non_negative(key, 0.0) : -1.0; };
+    c.faults.imu_stale_at_s = when("imu_stale_at_s");
+    c.faults.garbage_at_s = when("garbage_at_s");
+    c.faults.garbage_bytes = static_cast<int>(f.integer("garbage_bytes", c.faults.garbage_bytes));
+    if (c.faults.garbage_bytes < 1 || c.faults.garbage_bytes > 100000) f.fail("garbage_bytes", "must be 1..100000");
+    c.faults.link_cut_at_s = when("link_cut_at_s");
+    f.finish();
+  }
+  if (r.has("limits")) {
+    io::JsonReader l = r.child("limits");
+    c.limits.max_dkpa = to_fixed(l.positive("max_kpa", c.limits.max_dkpa / 10.0), 10.0);
+    c.limits.rate_dkpa_s = to_fixed(l.positive("rate_kpa_s", c.limits.rate_dkpa_s / 10.0), 10.0);
+    const double timeout = l.positive("timeout_ms", c.limits.timeout_ms);
+    if (timeout < 1 || timeout > 1000) l.fail("timeout_ms", "must be 1..1000");
+    c.limits.timeout_ms = static_cast<uint32_t>(timeout);
+    l.finish();
+  }
+  r.finish();
+  return c;
+}
+
+// The simulated exosuit behind the emulated firmware.
+struct DeviceEmulator::Device {
+  explicit Device(const EmulatorConfig& config)
+      : simulated(description_of(config), sim::ModelOptions{.gravity = config.gravity}),
+        plant(simulated.model, units::pa_to_kpa(simulated.description.regulator.max_pressure),
+              sim::ImuModel{.period_s = kDataPeriodMs / 1000.0,
+                            .noise_std_deg = config.effects.imu_noise_std_deg,
+                            .bias_limit_deg = 0.0,
+                            .seed = config.seed}) {}
+
+  static sim::DeviceDescription description_of(const EmulatorConfig& config) {
+    sim::DeviceDescription d = sim::load_device(config.model);
+    if (config.effects.mount_stiffness) {
+      d.mount_stiffness = *config.effects.mount_stiffness;
+      d.stretch_mode = physics::StretchMode::kSelfConsistent;
+    }
+    if (config.effects.regulator_time_constant_s) d.regulator.time_constant = *config.effects.regulator_time_constant_s;
+    return d;
+  }
+
+  experiments::SimulatedDevice simulated;
+  sim::SimulatedPlant plant;
+};
+
+DeviceEmulator::DeviceEmulator(const EmulatorConfig& config)
+    : config_(config), device_(std::make_unique<Device>(config)) {}
+
+DeviceEmulator::~DeviceEmulator() = default;
+
+EmulatorStats DeviceEmulator::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point epoch = Clock::now();
+  const auto now_ms = [&] {
+    return static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - epoch).count());
+  };
+  std::optional<SerialPort> link(std::move(link_in));
+  wire::SafetyGate gate(config_.limits);
+  wire::DeviceProtocol protocol(&gate);
+  wire::LineAssembler lines;
+  std::mt19937_64 rng(config_.seed ^ 0x5eedULL);
+  const EmulatorEffects& fx = config_.effects;
+  const auto dead_time_ms = static_cast<std::uint32_t>(std::lround(fx.regulator_dead_time_s * 1000.0));
+  const auto latency_ms = static_cast<std::uint32_t>(std::lround(fx.imu_latency_s * 1000.0));
+
+  std::deque<std::pair<std::uint32_t, std::array<int32_t, 4>>> setpoints;  // for the dead time
+  std::deque<std::pair<std::uint32_t, control::WristAngles>> readings;     // for the IMU latency
+  int32_t fe_cdeg = 0, ur_cdeg = 0;
+  bool vented = true, imu_stale = false, host_gone = false;
+  std::optional<std::uint32_t> first_hello_ms;
+  std::uint32_t estop_ms = 0, last_command_ms = 0, last_imu_ms = 0;
+  bool estop_pending = false, hello_pending = false;
+  std::uint32_t next_tick = 0, next_data = 0;
+  bool injected[3] = {false, false, false};
+
+  const auto write = [&](const char* data, std::size_t size) {
+    if (!link || host_gone) return;
+    std::size_t n = 0;
+    try {
+      n = link->write_some(data, size);
+    } catch (const std::runtime_error&) {
+      host_gone = true;
+    }
+    if (n < size) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stats_.bytes_dropped += static_cast<long>(size - n);
+    }
+  };
+  const auto send = [&](const wire::Packet& p) {
+    char buffer[wire::kMaxLine + 2];
+    write(buffer, wire::format_packet(p, buffer, sizeof buffer));
+  };
+  const auto handle_line = [&](std::uint32_t now) {
+    wire::Packet reply;
+    bool has_reply = false;
+    const char type = protocol.handle_line(lines.line(), lines.length(), now, &reply, &has_reply);
+    if (has_reply) send(reply);
+    if (type != 0 && observer_) {
+      wire::Packet accepted;
+      wire::parse_line(lines.line(), lines.length(), &accepted);
+      observer_(type, accepted.seq);
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (type == 0) {
+      ++stats_.packets_rejected;
+      return;
+    }
+    ++stats_.packets_accepted;
+    if (type == 'H') {
+      ++stats_.sessions;
+      if (!first_hello_ms) first_hello_ms = now;
+      hello_pending = true;
+      last_command_ms = last_imu_ms = now;
+    } else if (type == 'S') {
+      last_command_ms = stats_.last_command_ms = now;
+    } else if (type == 'E') {
+      estop_pending = true;
+      estop_ms = now;
+    }
+  };
+  const auto due = [&](double at_s, std::uint32_t now) {
+    return at_s >= 0.0 && first_hello_ms && now >= *first_hello_ms + static_cast<std::uint32_t>(at_s * 1000.0);
+  };
+
+  while (!stop.load()) {
+    // Wait for bytes from the host until the next millisecond tick.
+    const std::uint32_t before = now_ms();
+    const int wait = next_tick > before ? static_cast<int>(next_tick - before) : 0;
+    std::size_t n = 0;
+    char buffer[256];
+    if (link && !host_gone) {
+      try {
+        n = link->read_some(buffer, sizeof buffer, wait);
+      } catch (const std::runtime_error&) {
+        host_gone = true;  // the host closed its side; a new one may open it again
+      }
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(wait));
+      if (link && host_gone) {
+        try {  // a pseudo-terminal whose host went reads again once a new host opens it
+          n = link->read_some(buffer, sizeof buffer, 0);
+          host_gone = false;
+        } catch (const std::runtime_error&) {
+        }
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (lines.push(buffer[i])) handle_line(next_tick);  // seen by the next pass, as the firmware does
+    }
+
+    // One pass of the firmware's loop per millisecond (several when the emulator fell behind).
+    const std::uint32_t now = now_ms();
+    if (now > next_tick + 1) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stats_.max_loop_lag_ms = std::max(stats_.max_loop_lag_ms, now - next_tick);
+    }
+    for (; next_tick <= now; ++next_tick) {
+      const std::uint32_t t = next_tick;
+      const auto inject = [&](int k) {
+        injected[k] = true;
+        std::lock_guard<std::mutex> lock(mutex_);
+        stats_.fault_injected_ms[k] = t;
+      };
+      if (!injected[0] && due(config_.faults.imu_stale_at_s, t)) {
+        inject(0);
+        imu_stale = true;
+      }
+      if (!injected[1] && due(config_.faults.garbage_at_s, t)) {
+        inject(1);
+        std::string junk(static_cast<std::size_t>(config_.faults.garbage_bytes), '\0');
+        for (char& c : junk) c = static_cast<char>(rng() & 0xFF);
+        write(junk.data(), junk.size());
+      }
+      if (!injected[2] && due(config_.faults.link_cut_at_s, t)) {
+        inject(2);
+        link.reset();  // the host's side reads EIO: unplugged
+      }
+
+      device_->plant.wait_until(t / 1000.0);
+      if (t >= next_data) {
+        next_data = t + kDataPeriodMs;
+        const control::ImuReading sample = device_->plant.read_angles();
+        readings.push_back({t, sample.angles});
+        while (readings.size() > 1 && readings[1].first + latency_ms <= t) readings.pop_front();
+        const bool valid = !imu_stale;
+        if (valid) {
+          fe_cdeg = to_fixed(readings.front().second.fe_deg + fx.imu_bias_fe_deg, 100.0);
+          ur_cdeg = to_fixed(readings.front().second.ur_deg + fx.imu_bias_ur_deg, 100.0);
+          last_imu_ms = t;
+          std::lock_guard<std::mutex> lock(mutex_);
+          stats_.last_imu_ms = t;
+        }
+        gate.imu_reading(valid, t);
+        int32_t measured[4];
+        for (int i = 0; i < 4; ++i) {
+          measured[i] = to_fixed(device_->plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i)), 10.0);
+        }
+        send(protocol.data_packet(t, fe_cdeg, ur_cdeg, measured));
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++stats_.data_sent;
+      }
+
+      std::array<int32_t, 4> out{};
+      gate.update(t, out.data());
+      if (const int32_t top = *std::max_element(out.begin(), out.end()); top > stats_.max_output_dkpa) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stats_.max_output_dkpa = top;
+      }
+      const bool now_vented = std::all_of(out.begin(), out.end(), [](int32_t p) { return p == 0; });
+      if (now_vented && !vented) {
+        VentEvent e{.t_ms = t};
+        if (estop_pending) {
+          e.cause = "emergency stop";
+          e.cause_ms = estop_ms;
+        } else if (hello_pending) {
+          e.cause = "new session";
+          e.cause_ms = last_command_ms;
+        } else if (gate.flags(t) & wire::kWatchdog) {
+          const bool no_command = t - last_command_ms > config_.limits.timeout_ms;
+          e.cause = no_command ? "watchdog: no command" : "watchdog: no IMU";
+          e.cause_ms = no_command ? last_command_ms : last_imu_ms;
+        } else {
+          e.cause = "zero command";
+          e.cause_ms = last_command_ms;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        stats_.vents.push_back(e);
+      }
+      vented = now_vented;
+      estop_pending = hello_pending = false;
+      // The regulators see the setpoint after the dead time; venting is the valve, which needs no regulator.
+      setpoints.push_back({t, out});
+      while (setpoints.size() > 1 && setpoints[1].first + dead_time_ms <= t) setpoints.pop_front();
+      const std::array<int32_t, 4>& applied = now_vented ? out : setpoints.front().second;
+      device_->plant.command_pressures_kpa(
+          {applied[0] / 10.0, applied[1] / 10.0, applied[2] / 10.0, applied[3] / 10.0});
+    }
+  }
+}
+
+}  // namespace softwrist::bridge

@@ -1,0 +1,146 @@
+#include "cli/bridge_commands.h"
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "bridge/bridge_plant.h"
+#include "bridge/device_emulator.h"
+#include "bridge/hardware_trial.h"
+#include "cli/arguments.h"
+#include "cli/stop_signals.h"
+#include "experiments/experiment.h"
+
+namespace softwrist::cli {
+namespace {
+
+struct EmulateOptions {
+  std::string config;
+  std::string link;
+  double duration_s = 0.0;
+};
+
+struct TrialCommandOptions {
+  std::string config;
+  std::string device;
+  std::string out;
+  std::vector<std::string> controllers;
+  int repetitions = 0;
+  std::optional<double> rest_s;
+  double max_kpa = 137.0;
+  int baud = 115200;
+  bool overwrite = false;
+};
+
+// The path a user gives the trial: a symbolic link to the emulator's pseudo-terminal. An existing file that is not
+// such a link is never replaced.
+void make_link(const std::filesystem::path& link, const std::string& target) {
+  if (std::filesystem::is_symlink(link)) std::filesystem::remove(link);
+  if (std::filesystem::exists(link)) throw UsageError(fmt::format("--link {}: exists and is not a symbolic link", link.string()));
+  std::filesystem::create_symlink(target, link);
+}
+
+void emulate(const EmulateOptions& options, std::ostream& out) {
+  if (options.duration_s < 0.0) throw UsageError("--duration-s must be >= 0");
+  const bridge::EmulatorConfig config = bridge::load_emulator_config(options.config);
+  bridge::DeviceEmulator emulator(config);
+  bridge::PseudoTerminal pty = bridge::PseudoTerminal::Open();
+  // Holding the slave side open keeps the pseudo-terminal alive between hosts (each trial opens and closes it).
+  const bridge::SerialPort keeper = bridge::SerialPort::Open(pty.slave_path);
+  if (!options.link.empty()) make_link(options.link, pty.slave_path);
+  out << fmt::format("device emulator: {} on {}{}\n", config.model.string(), pty.slave_path,
+                     options.link.empty() ? "" : fmt::format(" (linked from {})", options.link));
+  out << "  run a trial with: softwrist trial experiments/<name>.json --device "
+      << (options.link.empty() ? pty.slave_path : options.link) << "\n  stop with Ctrl-C\n";
+  out.flush();
+
+  StopSignals signals;
+  std::atomic<bool> stop{false};
+  std::thread server([&] { emulator.serve(std::move(pty.master), stop); });
+  const auto start = std::chrono::steady_clock::now();
+  while (!signals.requested.load() &&
+         (options.duration_s <= 0.0 ||
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < options.duration_s)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  stop.store(true);
+  server.join();
+  if (!options.link.empty() && std::filesystem::is_symlink(options.link)) std::filesystem::remove(options.link);
+  const bridge::EmulatorStats s = emulator.stats();
+  out << fmt::format("device emulator stopped: {} sessions, {} packets accepted, {} rejected, {} data packets sent, "
+                     "{} bytes dropped, {} vents\n",
+                     s.sessions, s.packets_accepted, s.packets_rejected, s.data_sent, s.bytes_dropped, s.vents.size());
+}
+
+void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
+  if (options.rest_s && !(*options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
+  if (!(options.max_kpa > 0.0 && options.max_kpa <= 137.0)) {
+    throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
+  }
+  const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
+  bridge::BridgeOptions bridge_options;
+  bridge_options.limits.max_dkpa = static_cast<int32_t>(options.max_kpa * 10.0);
+  bridge::BridgePlant plant(bridge::SerialPort::Open(options.device, options.baud), bridge_options);
+  StopSignals signals;
+  const std::filesystem::path dir =
+      options.out.empty() ? std::filesystem::path("trials") / config.name : std::filesystem::path(options.out);
+  bridge::TrialOptions trial_options{.out = dir,
+                                     .controllers = options.controllers,
+                                     .overwrite = options.overwrite,
+                                     .interrupt = &signals.requested,
+                                     .progress = &err};
+  if (options.repetitions > 0) trial_options.repetitions = options.repetitions;
+  trial_options.rest_s = options.rest_s;
+  const bridge::TrialResult result = bridge::run_trial(config, plant, trial_options);
+  out << fmt::format("{}: {} of {} runs on {}, log {}/trials.csv, bridge record {}/bridge.json{}\n", dir.string(),
+                     result.runs_completed, result.runs_planned, options.device, dir.string(), dir.string(),
+                     result.runs_completed > 0 ? fmt::format(", summary {}/summary.json", dir.string()) : "");
+  if (result.fault) {
+    throw std::runtime_error(fmt::format(
+        "the trial stopped, vented: {}\n  every row measured before it is in {}/trials.csv; run the remaining runs "
+        "again with --out <another dir> (--controller and --repetitions choose them)",
+        *result.fault, dir.string()));
+  }
+}
+
+}  // namespace
+
+void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
+  auto emulate_options = std::make_shared<EmulateOptions>();
+  auto* emulate_command = app.add_subcommand(
+      "emulate", "Run the device emulator on a pseudo-terminal: the firmware's protocol and safety rules in front of "
+                 "a simulated exosuit with the extra effects of its config (docs/emulator.md)");
+  emulate_command->add_option("config", emulate_options->config, "Emulator config (JSON, softwrist.emulator/1)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  emulate_command->add_option("--link", emulate_options->link,
+                              "Also reach the pseudo-terminal through this path (a symbolic link), e.g. /tmp/softwrist-device");
+  emulate_command->add_option("--duration-s", emulate_options->duration_s, "Stop after this long; default: at Ctrl-C");
+  emulate_command->callback([emulate_options, &out] { emulate(*emulate_options, out); });
+
+  auto trial_options = std::make_shared<TrialCommandOptions>();
+  auto* trial_command = app.add_subcommand(
+      "trial", "Run a tracking experiment on the exosuit (or the emulator) through the bridge, logging as a "
+               "simulated run does");
+  trial_command->add_option("config", trial_options->config, "Tracking experiment config (JSON)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  trial_command->add_option("--device", trial_options->device, "Serial device: /dev/ttyACM0, or the emulator's link")
+      ->required();
+  trial_command->add_option("--out", trial_options->out, "Trial directory; default trials/<config name>");
+  trial_command->add_option("--controller", trial_options->controllers,
+                            "Run only this controller (repeatable); default: every controller of the config");
+  trial_command->add_option("--repetitions", trial_options->repetitions, "Runs per controller; default: the config's");
+  trial_command->add_option("--rest-s", trial_options->rest_s, "Vented rest before each run, for the wrist to come to rest "
+                                                               "before zeroing [s]; default: the config's rest_s");
+  trial_command->add_option("--max-kpa", trial_options->max_kpa, "The host's pressure limit (the device's applies too)");
+  trial_command->add_option("--baud", trial_options->baud, "Serial speed");
+  trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");
+  trial_command->callback([trial_options, &out, &err] { trial(*trial_options, out, err); });
+}
+
+}  // namespace softwrist::cli
