@@ -5,7 +5,8 @@
 #   minimum-pressure search; planar steps and spatial tracking with the paper's and the model-based controller),
 #   each a run directory with its trial log, summary.json and an HTML report (report/index.html, with plots and
 #   renders of the run's moments), two offscreen renders of the paper's device, and a video of the model-based
-#   controller on the planar steps (4x real time).
+#   controller on the planar steps (4x real time), and a rehearsed hardware trial (the bridge against the device
+#   emulator with a real device's effects) beside its simulation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -22,3 +23,15 @@ $softwrist render --ur-deg 15 --pressures-kpa 0,0,137,20 --view palmar --out out
 # Case 3: the model-based controller's first repetition (cases: the paper's controller x3, then model-based x3).
 $softwrist render --run out/main/planar_tracking --video out/main/planar_tracking/model_based_steps.mp4 --case 3 \
   --speed 4 --width 480 --height 360
+# A rehearsal of a hardware trial: the short planar steps through the bridge against the device emulator with a
+# real device's effects (experiments/emulator/realistic.json), beside the same experiment in simulation.
+$softwrist emulate experiments/emulator/realistic.json --link out/main/emulated_device --duration-s 300 \
+  > out/main/emulator.log &
+emulator=$!
+for _ in $(seq 100); do [ -e out/main/emulated_device ] && break; sleep 0.1; done
+$softwrist trial experiments/planar_rehearsal.json --device out/main/emulated_device --out out/main/rehearsal_trial \
+  --overwrite
+kill -TERM "$emulator" && wait "$emulator"
+$softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet
+$softwrist report out/main/rehearsal_trial
+$softwrist report out/main/rehearsal_sim

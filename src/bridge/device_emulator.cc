@@ -192,11 +192,15 @@ void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
     }
     ++stats_.packets_accepted;
     if (type == 'H') {
+      // The subject puts the wrist at neutral and holds it there, vented, until the first command: the host
+      // zeroes the angles there, as the paper did.
+      device_->plant.hold(control::WristAngles{});
       ++stats_.sessions;
       if (!first_hello_ms) first_hello_ms = now;
       hello_pending = true;
       last_command_ms = last_imu_ms = now;
     } else if (type == 'S') {
+      device_->plant.hold(std::nullopt);
       last_command_ms = stats_.last_command_ms = now;
     } else if (type == 'E') {
       estop_pending = true;

@@ -8,6 +8,8 @@
 //   mount_stretch  mounting-point stiffness K1, K2 other than the placement file's (self-consistent stretching);
 //   regulator_lag  another regulator time constant, and a dead time before a setpoint reaches the regulator;
 //   imu            white noise, a fixed bias and a latency of the measured wrist angles.
+// At each hello the emulated subject puts the wrist at neutral and holds it still, vented, until the first command
+// (the paper zeroes the angles at the neutral wrist), then lets go.
 // Faults can be scheduled (seconds after the first hello): the IMUs going stale, a burst of garbage towards the
 // host, the link cut. The device side runs the same wire::SafetyGate as the firmware, updated every millisecond,
 // and records every moment it vents with the cause, so tests can check how quickly a fault made it safe.

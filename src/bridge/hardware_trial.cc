@@ -91,7 +91,7 @@ TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& 
   }
   const int repetitions = options.repetitions.value_or(tracking->repetitions());
   if (repetitions < 1) throw std::runtime_error("a trial needs at least one repetition");
-  const double rest_s = options.rest_s.value_or(tracking->rest_s());
+  const double rest_s = options.rest_s;
   if (!(rest_s >= 0.0)) throw std::runtime_error("the rest before each run must be >= 0 s");
   if (std::filesystem::exists(options.out / (std::string(experiments::kTrialLogName) + ".csv")) && !options.overwrite) {
     throw std::runtime_error(fmt::format("{} holds a trial log already: choose another --out, or --overwrite",

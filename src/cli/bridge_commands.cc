@@ -29,7 +29,7 @@ struct TrialCommandOptions {
   std::string out;
   std::vector<std::string> controllers;
   int repetitions = 0;
-  std::optional<double> rest_s;
+  double rest_s = 1.0;
   double max_kpa = 137.0;
   int baud = 115200;
   bool overwrite = false;
@@ -77,7 +77,7 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
 
 void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
   if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
-  if (options.rest_s && !(*options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
+  if (!(options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
   if (!(options.max_kpa > 0.0 && options.max_kpa <= 137.0)) {
     throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
   }
@@ -94,7 +94,7 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
                                      .interrupt = &signals.requested,
                                      .progress = &err};
   if (options.repetitions > 0) trial_options.repetitions = options.repetitions;
-  trial_options.rest_s = options.rest_s;
+  trial_options.rest_s = options.rest_s;  // the subject holds the wrist at neutral meanwhile
   const bridge::TrialResult result = bridge::run_trial(config, plant, trial_options);
   out << fmt::format("{}: {} of {} runs on {}, log {}/trials.csv, bridge record {}/bridge.json{}\n", dir.string(),
                      result.runs_completed, result.runs_planned, options.device, dir.string(), dir.string(),
@@ -135,8 +135,8 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("--controller", trial_options->controllers,
                             "Run only this controller (repeatable); default: every controller of the config");
   trial_command->add_option("--repetitions", trial_options->repetitions, "Runs per controller; default: the config's");
-  trial_command->add_option("--rest-s", trial_options->rest_s, "Vented rest before each run, for the wrist to come to rest "
-                                                               "before zeroing [s]; default: the config's rest_s");
+  trial_command->add_option("--rest-s", trial_options->rest_s, "Vented pause before each run, while the subject holds the "
+                                                               "wrist at neutral for zeroing [s]");
   trial_command->add_option("--max-kpa", trial_options->max_kpa, "The host's pressure limit (the device's applies too)");
   trial_command->add_option("--baud", trial_options->baud, "Serial speed");
   trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");

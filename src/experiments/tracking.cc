@@ -108,7 +108,6 @@ std::unique_ptr<Tracking> Tracking::Create(const ExperimentConfig& config, io::J
   }
   e->options_.active_axes = read_active_pairs(reader);
   e->settle_s_ = reader.non_negative("settle_s", 3.0);
-  e->rest_s_ = reader.non_negative("rest_s", e->rest_s_);
   if (reader.has("imu")) {
     io::JsonReader imu = reader.child("imu");
     e->imu_.period_s = imu.positive("period_s", e->imu_.period_s);
@@ -203,9 +202,6 @@ std::vector<Row> Tracking::run_case(int index) const {
   const ControllerSpec& spec = controllers_[static_cast<std::size_t>(index / repetitions_)];
   std::mt19937_64 rng = case_rng(seed_, index);
   sim::SimulatedPlant plant = make_plant(rng());
-  // The wrist rests vented first, as on the device: with the muscles' fabric elasticity its rest is not the
-  // model's zero pose, and the loop zeroes the angles wherever it rests.
-  plant.wait_until(rest_s_);
   const std::unique_ptr<control::Controller> controller = spec.make();
   std::vector<Row> rows;
   rows.reserve(static_cast<std::size_t>(trajectory_->duration_s() / controller->period_s()) + 1);

@@ -41,8 +41,6 @@ class Tracking final : public Experiment {
   sim::SimulatedPlant make_plant(std::uint64_t imu_seed) const;
   const control::TrackingOptions& options() const { return options_; }
   int repetitions() const { return repetitions_; }
-  // How long the wrist rests vented before each run [s].
-  double rest_s() const { return rest_s_; }
 
  private:
   struct ControllerSpec {
@@ -56,7 +54,6 @@ class Tracking final : public Experiment {
   sim::ImuModel imu_;
   double gravity_ = 9.81;     // [m/s^2], 0 with the hand supported
   double settle_s_ = 3.0;     // excluded from the RMSE
-  double rest_s_ = 3.0;       // vented before each run, for the wrist to come to rest before zeroing
   int repetitions_ = 3;
   std::uint64_t seed_ = 1;
 };

@@ -63,7 +63,11 @@ void SimulatedPlant::sample() {
 void SimulatedPlant::wait_until(double t) {
   const double dt = wrist_.model()->opt.timestep;
   while (wrist_.time() < t - 0.5 * dt) {
-    wrist_.run(dt);
+    if (held_) {
+      wrist_.run_held(dt, units::deg_to_rad(held_->fe_deg), units::deg_to_rad(held_->ur_deg));
+    } else {
+      wrist_.run(dt);
+    }
     if (wrist_.time() >= next_sample_ - 0.5 * dt) sample();
   }
 }

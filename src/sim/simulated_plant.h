@@ -7,6 +7,7 @@
 // of the model's joint order, then a fixed bias (drawn once per run within +-bias_limit_deg: the BNO055's heading
 // accuracy, +-2.5 deg in its datasheet) and white noise are added. The noise level is an assumption.
 
+#include <optional>
 #include <random>
 
 #include "control/plant.h"
@@ -40,6 +41,9 @@ class SimulatedPlant final : public control::Plant {
   // What an ideal IMU pair would say now (relative orientation of the bodies, before bias and noise).
   control::WristAngles ideal_imu_angles();
   WristSim& wrist() { return wrist_; }
+  // A subject holding the wrist still at `angles` (the paper zeroes the IMUs "at a neutral position of the wrist"):
+  // while held, time passes with the joints fixed there (the regulators still fill or vent); nullopt lets go.
+  void hold(std::optional<control::WristAngles> angles) { held_ = angles; }
 
  private:
   void sample();
@@ -51,6 +55,7 @@ class SimulatedPlant final : public control::Plant {
   control::ImuReading reading_;
   double next_sample_ = 0.0;
   int forearm_body_ = -1, hand_body_ = -1;
+  std::optional<control::WristAngles> held_;
 };
 
 }  // namespace softwrist::sim

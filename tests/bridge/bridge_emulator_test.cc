@@ -126,7 +126,6 @@ experiments::ExperimentConfig short_planar_config(const std::filesystem::path& d
       {"controllers", {{{"name", "paper"}}, {{"name", "model_based"}}}},
       {"imu", {{"noise_std_deg", 0}, {"bias_limit_deg", 0}}},  // the emulator's IMUs have no effects either
       {"settle_s", 1},
-      {"rest_s", 1.5},
       {"repetitions", 1}};
   return {.json = json, .base_dir = dir, .source = "short_planar.json", .name = "short_planar"};
 }
@@ -180,7 +179,7 @@ TEST_F(BridgeTrial, MatchesTheSimulatedExperimentWhenTheEmulatorHasNoExtraEffect
       worst = std::max(worst, std::abs(d));
       worst_cmd = std::max(worst_cmd, std::abs(a.cmd_flexor[i] - b.cmd_flexor[i]));
     }
-    // Measured here: RMS 0.05 / 0.12 deg, worst 0.4 / 0.8 deg (paper / model-based); the steps are 10 and 20 deg.
+    // Measured here: RMS 0.07 / 0.14 deg, worst 1.0 / 0.8 deg (paper / model-based); the steps are 10 and 20 deg.
     EXPECT_LT(std::sqrt(sum / static_cast<double>(a.measured_fe.size())), 0.5) << name;
     EXPECT_LT(worst, 2.5) << name;
     EXPECT_LT(worst_cmd, 3.0) << name;
@@ -191,7 +190,9 @@ TEST_F(BridgeTrial, MatchesTheSimulatedExperimentWhenTheEmulatorHasNoExtraEffect
     const nlohmann::json& b = result.summary["controllers"][c];
     EXPECT_NEAR(a["rmse_fe_deg"].get<double>(), b["rmse_fe_deg"].get<double>(), 0.25) << a["controller"];
     for (std::size_t s = 0; s < a["steps"].size(); ++s) {
-      EXPECT_NEAR(a["steps"][s]["rise_time_s"].get<double>(), b["steps"][s]["rise_time_s"].get<double>(), 0.05);
+      const nlohmann::json &rise_a = a["steps"][s]["rise_time_s"], &rise_b = b["steps"][s]["rise_time_s"];
+      ASSERT_EQ(rise_a.is_null(), rise_b.is_null());  // a step not reached in one is not reached in the other
+      if (!rise_a.is_null()) EXPECT_NEAR(rise_a.get<double>(), rise_b.get<double>(), 0.05);
       EXPECT_NEAR(a["steps"][s]["overshoot_pct"].get<double>(), b["steps"][s]["overshoot_pct"].get<double>(), 3.0);
     }
   }
@@ -327,7 +328,7 @@ TEST(BridgeFaults, GarbageFromTheDeviceIsCountedAndNeverActedOn) {
 // A trial that a fault ends keeps every row measured before it and says what happened beside the log.
 TEST_F(BridgeTrial, AFaultEndsTheTrialVentedWithAReadableLog) {
   EmulatorConfig config = nominal_config();
-  config.faults.imu_stale_at_s = 4.0;  // during the first run (1.5 s rest, then the steps)
+  config.faults.imu_stale_at_s = 4.0;  // during the first run (1 s vented pause, then the steps)
   EmulatedDevice device(config);
   BridgePlant plant(device.take_link());
   const TrialResult result = run_trial(short_planar_config(dir_), plant, {.out = dir_ / "hw"});
