@@ -192,7 +192,9 @@ TEST_F(BridgeTrial, MatchesTheSimulatedExperimentWhenTheEmulatorHasNoExtraEffect
     for (std::size_t s = 0; s < a["steps"].size(); ++s) {
       const nlohmann::json &rise_a = a["steps"][s]["rise_time_s"], &rise_b = b["steps"][s]["rise_time_s"];
       ASSERT_EQ(rise_a.is_null(), rise_b.is_null());  // a step not reached in one is not reached in the other
-      if (!rise_a.is_null()) EXPECT_NEAR(rise_a.get<double>(), rise_b.get<double>(), 0.05);
+      if (!rise_a.is_null()) {
+        EXPECT_NEAR(rise_a.get<double>(), rise_b.get<double>(), 0.05);
+      }
       EXPECT_NEAR(a["steps"][s]["overshoot_pct"].get<double>(), b["steps"][s]["overshoot_pct"].get<double>(), 3.0);
     }
   }
