@@ -1,4 +1,6 @@
-// `softwrist run`, `merge`, `personalize`, `bench optimize`, `bench control` and `bench render` from the command line.
+// `softwrist run`, `merge`, `personalize`, `bench optimize`, `bench control`, `bench render`, and the bridge's
+// `trial`, `emulate` and `bench bridge` argument errors from the command line (the bridge itself runs against the
+// emulator in tests/bridge/bridge_emulator_test.cc).
 
 #include "cli/run_commands.h"
 
@@ -116,6 +118,27 @@ TEST(CliBench, RenderReportsFramesPerSecond) {
   const auto wrong = run({"bench", "control", "--config", (kSource / "experiments/range_of_motion.json").string()});
   EXPECT_NE(wrong.code, 0);
   EXPECT_THAT(wrong.err, HasSubstr("is not a tracking experiment config"));
+}
+
+// Bad arguments to the bridge's commands are named before anything opens or moves.
+TEST_F(CliRun, BridgeCommandsNameTheirBadArguments) {
+  const std::string config = (kSource / "experiments/planar_rehearsal.json").string();
+  const auto no_device = run({"trial", config, "--device", "/nonexistent/ttyACM9", "--out", (dir_ / "t").string()});
+  EXPECT_EQ(no_device.code, 1);
+  EXPECT_THAT(no_device.err, HasSubstr("/nonexistent/ttyACM9: cannot open"));
+  EXPECT_FALSE(fs::exists(dir_ / "t" / "trials.csv"));
+  const auto too_high = run({"trial", config, "--device", "/dev/null", "--max-kpa", "500"});
+  EXPECT_EQ(too_high.code, 2);
+  EXPECT_THAT(too_high.err, HasSubstr("--max-kpa"));
+  const auto not_a_tty = run({"trial", config, "--device", "/dev/null", "--out", (dir_ / "t").string()});
+  EXPECT_EQ(not_a_tty.code, 1);
+  EXPECT_THAT(not_a_tty.err, HasSubstr("/dev/null: not a serial device"));
+  std::ofstream(dir_ / "emulator.json") << R"({"format": "softwrist.emulator/1", "model": "x.json",
+      "effects": {"regulator_lag": {"time_constant_s": -0.1}}})";
+  const auto bad_emulator = run({"emulate", (dir_ / "emulator.json").string(), "--duration-s", "1"});
+  EXPECT_EQ(bad_emulator.code, 1);
+  EXPECT_THAT(bad_emulator.err, HasSubstr("effects.regulator_lag.time_constant_s"));
+  EXPECT_EQ(run({"bench", "bridge", "--cycles", "3"}).code, 2);
 }
 
 }  // namespace
