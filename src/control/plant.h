@@ -1,7 +1,7 @@
 #pragma once
 // What a controller sees of the exosuit (Section Control system): four commanded pressures out, two wrist angles
-// from the IMU pair in, and time. The simulation (sim/simulated_plant.h) implements it now and the hardware bridge
-// will; a controller written against it runs on either unchanged. Units at this edge are the paper's: kPa and
+// from the IMU pair in, and time. The simulation (sim/simulated_plant.h) and the hardware bridge
+// (bridge/bridge_plant.h) implement it; a controller written against it runs on either unchanged. Units at this edge are the paper's: kPa and
 // degrees (flexion and ulnar deviation positive), seconds.
 
 #include <array>
