@@ -25,12 +25,6 @@ int32_t to_fixed(double value, double scale) { return static_cast<int32_t>(std::
 
 }  // namespace
 
-EmulatorConfig default_emulator_config(const std::filesystem::path& models_dir) {
-  EmulatorConfig c;
-  c.model = models_dir / "rom_device.json";
-  return c;
-}
-
 EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
   const nlohmann::json json = io::parse_json(io::read_text_file(path), path.string());
   io::JsonReader r(json, path.string(), "");
@@ -201,7 +195,7 @@ void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
       last_command_ms = last_imu_ms = now;
     } else if (type == 'S') {
       device_->plant.hold(std::nullopt);
-      last_command_ms = stats_.last_command_ms = now;
+      last_command_ms = now;
     } else if (type == 'E') {
       estop_pending = true;
       estop_ms = now;
@@ -276,8 +270,6 @@ void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
           fe_cdeg = to_fixed(readings.front().second.fe_deg + fx.imu_bias_fe_deg, 100.0);
           ur_cdeg = to_fixed(readings.front().second.ur_deg + fx.imu_bias_ur_deg, 100.0);
           last_imu_ms = t;
-          std::lock_guard<std::mutex> lock(mutex_);
-          stats_.last_imu_ms = t;
         }
         gate.imu_reading(valid, t);
         int32_t measured[4];

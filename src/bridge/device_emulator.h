@@ -60,8 +60,6 @@ struct EmulatorConfig {
 // Reads an emulator config (format softwrist.emulator/1); relative paths start at the file's directory. Errors
 // throw std::runtime_error("<file>: <field>: <problem>").
 EmulatorConfig load_emulator_config(const std::filesystem::path& path);
-// The default: the range-of-motion device of models/ with no extra effects and no faults.
-EmulatorConfig default_emulator_config(const std::filesystem::path& models_dir);
 
 // A moment the device vented (all regulator setpoints to 0, supply valve closed).
 struct VentEvent {
@@ -81,8 +79,6 @@ struct EmulatorStats {
   std::uint32_t max_loop_lag_ms = 0;  // how far the emulated loop fell behind real time (a loaded machine)
   std::uint32_t fault_injected_ms[3] = {0, 0, 0};  // imu stale, garbage, link cut; 0: not injected
   std::vector<VentEvent> vents;
-  std::uint32_t last_command_ms = 0;  // arrival of the last accepted S packet
-  std::uint32_t last_imu_ms = 0;      // last valid IMU reading
 };
 
 class DeviceEmulator {
