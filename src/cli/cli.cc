@@ -7,6 +7,7 @@
 #include "cli/arguments.h"
 #include "cli/bench_commands.h"
 #include "cli/bridge_commands.h"
+#include "cli/diagnose_commands.h"
 #include "cli/model_commands.h"
 #include "cli/personalize_command.h"
 #include "cli/render_command.h"
@@ -32,6 +33,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_personalize_command(app, out);
   add_view_command(app, out);
   add_bridge_commands(app, out, err);
+  add_diagnose_commands(app, out, err);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

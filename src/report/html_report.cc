@@ -42,12 +42,12 @@ const nlohmann::json& at(const nlohmann::json& j, std::initializer_list<const ch
   return *node;
 }
 
-fs::path plot_script() {
-  for (const fs::path& candidate : {fs::path(SOFTWRIST_PLOT_SCRIPT_SOURCE), fs::path(SOFTWRIST_PLOT_SCRIPT_INSTALLED)}) {
-    if (fs::is_regular_file(candidate)) return candidate;
+fs::path plot_script(const std::string& name) {
+  for (const fs::path& dir : {fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_SOURCE), fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_INSTALLED)}) {
+    if (fs::is_regular_file(dir / name)) return dir / name;
   }
-  throw std::runtime_error(fmt::format("report: plot script not found at {} or {}", SOFTWRIST_PLOT_SCRIPT_SOURCE,
-                                       SOFTWRIST_PLOT_SCRIPT_INSTALLED));
+  throw std::runtime_error(fmt::format("report: plot script {} not found in {} or {}", name,
+                                       SOFTWRIST_PLOT_SCRIPT_DIR_SOURCE, SOFTWRIST_PLOT_SCRIPT_DIR_INSTALLED));
 }
 
 // The Python that has Debian's python3-matplotlib: $SOFTWRIST_PYTHON if set, else Debian's /usr/bin/python3
@@ -58,11 +58,15 @@ std::string python() {
   return "python3";
 }
 
-void run_plots(const fs::path& run_dir, const fs::path& out) {
-  const fs::path script = plot_script();
+}  // namespace
+
+void run_plot_script(const std::string& name, const std::vector<std::string>& args) {
+  const fs::path script = plot_script(name);
+  std::vector<std::string> command = {python(), script.string()};
+  command.insert(command.end(), args.begin(), args.end());
   int code = 0;
   try {
-    code = io::run_process({python(), script.string(), run_dir.string(), out.string()});
+    code = io::run_process(command);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(fmt::format("report: {} (install python3 and python3-matplotlib, or use --no-plots)", e.what()));
   }
@@ -72,8 +76,6 @@ void run_plots(const fs::path& run_dir, const fs::path& out) {
         script.string(), code));
   }
 }
-
-}  // namespace
 
 std::string html_escape(const std::string& text) {
   std::string out;
@@ -153,7 +155,7 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
   ReportResult result{.page = out / "index.html"};
   nlohmann::json plots = nlohmann::json::array();
   if (options.plots) {
-    run_plots(run_dir, out);
+    run_plot_script("plot_run.py", {run_dir.string(), out.string()});
     plots = read_json(out / "plots.json");
   }
 

@@ -33,4 +33,8 @@ std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, con
 
 std::string html_escape(const std::string& text);
 
+// Runs one of the report's matplotlib scripts (src/report/NAME, or where it is installed) with `args`; throws
+// naming the script and how to do without plots.
+void run_plot_script(const std::string& name, const std::vector<std::string>& args);
+
 }  // namespace softwrist::report

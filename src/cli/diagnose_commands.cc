@@ -1,0 +1,185 @@
+#include "cli/diagnose_commands.h"
+
+#include <chrono>
+#include <fstream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli/arguments.h"
+#include "diagnosis/csv_import.h"
+#include "diagnosis/diagnosis.h"
+#include "diagnosis/diagnosis_report.h"
+#include "diagnosis/synthetic_device.h"
+#include "sim/device.h"
+
+namespace softwrist::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DiagnoseOptions {
+  std::string real, model, out;
+  std::vector<std::string> effects;
+  int jobs = 2;
+  int bootstrap = 200;
+  bool no_plots = false;
+};
+
+void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
+  if (o.jobs < 1) throw UsageError("--jobs must be >= 1");
+  if (o.bootstrap < 20) throw UsageError("--bootstrap must be >= 20");
+  diagnosis::DiagnosisOptions options{.jobs = o.jobs, .bootstrap = o.bootstrap};
+  for (const std::string& name : o.effects) {
+    const auto id = diagnosis::effect_from_name(name);
+    if (!id) {
+      std::vector<std::string> names;
+      for (const auto& spec : diagnosis::effect_catalogue()) names.push_back(spec.name);
+      throw UsageError(fmt::format("--effects: '{}' is not in the catalogue ({})", name, fmt::join(names, ", ")));
+    }
+    options.effects.push_back(*id);
+  }
+  const sim::DeviceDescription nominal = sim::load_device(o.model);
+  const auto start = std::chrono::steady_clock::now();
+  diagnosis::RealData data = diagnosis::load_real_data(o.real);
+  for (const auto& p : data.problems) err << fmt::format("skipped {}: {}\n", p.file, p.reason);
+  diagnosis::ReplayEngine engine(sim::PluginSet::Default());
+  const std::size_t problems_before = data.problems.size();
+  const diagnosis::Diagnosis d = diagnosis::diagnose(std::move(data), nominal, engine, options);
+  for (std::size_t i = problems_before; i < d.problems.size(); ++i) {
+    err << fmt::format("skipped {}: {}\n", d.problems[i].file, d.problems[i].reason);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const fs::path dir = o.out.empty() ? fs::path(o.real) / "diagnosis" : fs::path(o.out);
+  const auto report = diagnosis::write_diagnosis_report(d, dir, {.plots = !o.no_plots, .wall_s = wall});
+  out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
+  out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
+                     d.heldout_nominal, d.heldout_corrected);
+  out << "effect            shrink   95% CI            held-out after  params\n";
+  for (const auto& f : d.effects) {
+    if (!f.applicable) {
+      out << fmt::format("{:<17} (no data it acts on)\n", f.name);
+      continue;
+    }
+    std::vector<std::string> params;
+    for (const auto& [name, value] : f.params) params.push_back(fmt::format("{}={:.4g}", name, value));
+    out << fmt::format("{:<17} {:>6.1f}%  [{:>6.1f}, {:>6.1f}]%  {:>14.3f}  {}\n", f.name, 100 * f.shrink_fraction,
+                       100 * f.ci_low, 100 * f.ci_high, f.heldout_error_after, fmt::join(params, " "));
+  }
+  out << fmt::format("{} ({} s)\n", report.json.string(), fmt::format("{:.1f}", wall));
+  if (!report.page.empty()) out << report.page.string() << "\n";
+}
+
+struct ImportCommandOptions {
+  std::string file, out;
+  diagnosis::ImportOptions import;
+};
+
+struct SynthesizeOptions {
+  std::string model, out;
+  std::string mount_stiffness;  // K1,K2 in N/cm^2
+  double dead_time_s = 0.0, imu_latency_s = 0.0, hysteresis = 0.0, wrist_radius_scale = 1.0;
+  double stiffness_scale = 1.0, time_constant_s = -1.0, r0_scale = 1.0, eps_max_shift = 0.0;
+  std::string imu_offset_deg;  // fe,ur
+  double trajectory_s = 24.0;
+  int repetitions = 3;
+  std::uint64_t seed = 1;
+};
+
+void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
+  diagnosis::SyntheticDevice real{.device = sim::load_device(o.model)};
+  sim::DeviceDescription& d = real.device;
+  if (!o.mount_stiffness.empty()) {
+    const auto k = parse_numbers(o.mount_stiffness, 2, "--mount-stiffness-n-per-cm2");
+    if (k[0] <= 0 || k[1] <= 0) throw UsageError("--mount-stiffness-n-per-cm2: both stiffnesses must be > 0");
+    d.mount_stiffness = {k[0] * 1e4, k[1] * 1e4};
+    d.stretch_mode = physics::StretchMode::kSelfConsistent;
+  }
+  if (!o.imu_offset_deg.empty()) {
+    const auto v = parse_numbers(o.imu_offset_deg, 2, "--imu-offset-deg");
+    real.imu_offset_fe_deg = v[0];
+    real.imu_offset_ur_deg = v[1];
+  }
+  if (o.dead_time_s < 0 || o.dead_time_s > 1) throw UsageError("--dead-time-s must be within 0..1");
+  if (o.imu_latency_s < 0 || o.imu_latency_s > 1) throw UsageError("--imu-latency-s must be within 0..1");
+  if (o.hysteresis < 0 || o.hysteresis >= 1) throw UsageError("--hysteresis must be within 0..1");
+  if (o.trajectory_s < 1 || o.trajectory_s > 600) throw UsageError("--trajectory-s must be within 1..600");
+  if (o.repetitions < 1 || o.repetitions > 20) throw UsageError("--repetitions must be within 1..20");
+  real.regulator_dead_time = o.dead_time_s;
+  real.imu_latency = o.imu_latency_s;
+  real.hysteresis = o.hysteresis;
+  // The effects that live in the device description, applied here by editing it.
+  if (!(o.wrist_radius_scale > 0) || !(o.stiffness_scale > 0) || !(o.r0_scale > 0)) {
+    throw UsageError("--wrist-radius-scale, --passive-stiffness-scale and --r0-scale must be > 0");
+  }
+  for (auto& m : d.muscles) m.wrist_radius *= o.wrist_radius_scale;
+  d.wrist.stiffness_fe *= o.stiffness_scale;
+  d.wrist.stiffness_ur *= o.stiffness_scale;
+  if (o.time_constant_s > 0) d.regulator.time_constant = o.time_constant_s;
+  std::vector<physics::FpamTableRow> rows = d.fpam.rows();
+  for (auto& row : rows) {
+    row.radius *= o.r0_scale;
+    row.max_contraction += o.eps_max_shift;
+  }
+  d.fpam = rows.size() == 1 ? physics::FpamParameters::Constant(rows[0].radius, rows[0].max_contraction, d.fpam.fabric())
+                            : physics::FpamParameters::Table(rows, d.fpam.fabric());
+  sim::parse_device(sim::device_to_json(d), "the synthesized device");  // validates the edited description
+  diagnosis::write_synthetic_data(
+      real, {.repetitions = o.repetitions, .trajectory_s = o.trajectory_s, .seed = o.seed}, o.out);
+  std::ofstream(fs::path(o.out) / "real_device.json") << sim::device_to_json(d);
+  out << fmt::format("{}: torque_sweep, range_of_motion, tensile, trajectory (the device as simulated: "
+                     "real_device.json)\n", o.out);
+}
+
+}  // namespace
+
+void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
+  auto d = std::make_shared<DiagnoseOptions>();
+  auto* diagnose = app.add_subcommand(
+      "diagnose", "Where and why real trials differ from the model: localisation, the catalogue's effects fitted on "
+                  "training data and scored on held-out data, a verdict (docs/diagnosis.md)");
+  diagnose->add_option("--real", d->real, "Directory of trial logs (hardware trials, imports, runs)")->required();
+  diagnose->add_option("--model", d->model, "Placement file of the nominal model")->required();
+  diagnose->add_option("--out", d->out, "Output directory (default REAL/diagnosis)");
+  diagnose->add_option("--effects", d->effects, "Only these catalogue effects (default all)")->delimiter(',');
+  diagnose->add_option("--jobs", d->jobs, "Effects fitted in parallel (default 2)");
+  diagnose->add_option("--bootstrap", d->bootstrap, "Bootstrap resamples of the held-out units (default 200)");
+  diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
+  diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
+
+  auto i = std::make_shared<ImportCommandOptions>();
+  auto* import = app.add_subcommand("import", "A CSV of your own measurements as a trial log (units in the column names)");
+  import->add_option("file", i->file, "The CSV")->required();
+  import->add_option("--kind", i->import.kind, "torque-sweep, rom, tensile or trajectory")->required();
+  import->add_option("--out", i->out, "Directory of the log")->required();
+  import->add_flag("--hand-supported", i->import.hand_supported, "A table carried the hand (no gravity in the replay)");
+  import->add_option("--muscle", i->import.muscle, "Torque sweeps without a muscle column: the muscle (default flexor)");
+  import->add_flag("--overwrite", i->import.overwrite, "Replace a log already in --out");
+  import->callback([i, &out] {
+    const auto result = diagnosis::import_csv(i->file, i->out, i->import);
+    out << fmt::format("{} ({} rows)\n", result.log.string(), result.rows);
+  });
+
+  auto s = std::make_shared<SynthesizeOptions>();
+  auto* synth = app.add_subcommand(
+      "synthesize", "\"Real\" data from a simulated device with effects injected: a torque sweep, range of motion, "
+                    "tensile test and trajectory, for trying the diagnosis");
+  synth->add_option("--model", s->model, "Placement file of the device before the effects")->required();
+  synth->add_option("--out", s->out, "Output directory")->required();
+  synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
+  synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
+  synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
+  synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
+  synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
+  synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
+  synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
+  synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
+  synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
+  synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
+  synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
+  synth->add_option("--repetitions", s->repetitions, "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
+  synth->add_option("--seed", s->seed, "Noise seed (default 1)");
+  synth->callback([s, &out] { run_synthesize(*s, out); });
+}
+
+}  // namespace softwrist::cli

@@ -1,0 +1,142 @@
+#include "diagnosis/csv_import.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "diagnosis/real_data.h"
+#include "experiments/trial_log.h"
+#include "io/csv.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct KindSpec {
+  std::string log_kind;
+  std::vector<std::string> required;
+  std::vector<std::string> optional;
+};
+
+KindSpec kind_spec(const std::string& kind) {
+  if (kind == "torque-sweep") return {"torque_sweep", {"angle_deg", "pressure_kpa", "torque_nm"}, {"repetition", "muscle"}};
+  if (kind == "rom") return {"range_of_motion", {"muscle", "pressure_kpa", "limit_deg"}, {"repetition"}};
+  if (kind == "tensile") return {"tensile", {"pressure_kpa", "contraction", "force_n"}, {"direction", "cycle"}};
+  if (kind == "trajectory") {
+    return {"trajectory",
+            {"t_s", "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa", "angle_fe_deg", "angle_ur_deg"},
+            {"case", "p_flexor_kpa", "p_extensor_kpa", "p_ulnar_kpa", "p_radial_kpa"}};
+  }
+  throw std::runtime_error(fmt::format("--kind: '{}' is not torque-sweep, rom, tensile or trajectory", kind));
+}
+
+// The column a required name maps to, or an error that says whether it is missing or lacks its unit.
+int required_column(const io::CsvTable& table, const std::string& name) {
+  if (const int c = table.find_column(name); c >= 0) return c;
+  const auto underscore = name.rfind('_');
+  const bool has_unit = underscore != std::string::npos && name != "contraction" && name.substr(underscore) != "_fe" &&
+                        name.substr(underscore) != "_ur";
+  if (has_unit) {
+    const std::string base = name.substr(0, underscore);
+    for (const std::string& h : table.header()) {
+      if (h == base) {
+        throw std::runtime_error(fmt::format("{}: column '{}' states no unit; name it '{}' (units in the column names)",
+                                             table.source(), h, name));
+      }
+      if (h.rfind(base + "_", 0) == 0 && h.find('_', base.size() + 1) == std::string::npos) {
+        throw std::runtime_error(fmt::format("{}: column '{}': unit '{}' is not read; give '{}'", table.source(), h,
+                                             h.substr(base.size() + 1), name));
+      }
+    }
+  }
+  return table.column(name);  // throws: missing column, with the columns there are
+}
+
+}  // namespace
+
+ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOptions& options) {
+  const KindSpec spec = kind_spec(options.kind);
+  const io::CsvTable table = io::CsvTable::Read(csv);
+  if (table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", csv.string()));
+  std::vector<std::string> names;
+  std::vector<int> source_columns;
+  for (const std::string& name : spec.required) {
+    names.push_back(name);
+    source_columns.push_back(required_column(table, name));
+  }
+  for (const std::string& name : spec.optional) {
+    if (const int c = table.find_column(name); c >= 0) {
+      names.push_back(name);
+      source_columns.push_back(c);
+    }
+  }
+  for (const std::string& h : table.header()) {
+    if (std::find(names.begin(), names.end(), h) == names.end()) {
+      throw std::runtime_error(fmt::format("{}: column '{}' is not one {} reads (it reads {}, and optionally {})",
+                                           csv.string(), h, options.kind, fmt::join(spec.required, ", "),
+                                           fmt::join(spec.optional, ", ")));
+    }
+  }
+  if (fs::exists(out / "trials.csv") && !options.overwrite) {
+    throw std::runtime_error(fmt::format("{}: already holds a log; choose another --out or give --overwrite", out.string()));
+  }
+  // The log speaks the project's column names: a trajectory's angles are what the IMUs measured.
+  std::vector<experiments::Column> columns;
+  for (const std::string& name : names) {
+    std::string log_name = name == "angle_fe_deg" ? "measured_fe_deg" : name == "angle_ur_deg" ? "measured_ur_deg" : name;
+    const auto underscore = log_name.rfind('_');
+    const std::string suffix = underscore == std::string::npos ? "" : log_name.substr(underscore + 1);
+    const std::string unit = suffix == "deg" ? "deg" : suffix == "kpa" ? "kPa" : suffix == "nm" ? "N m" : suffix == "n" ? "N"
+                             : suffix == "s" ? "s" : "";
+    columns.push_back({log_name, unit, "imported from " + name});
+  }
+  nlohmann::json config = {{"imported_from", fs::absolute(csv).string()}, {"import_kind", options.kind},
+                           {"hand_supported", options.hand_supported}, {"muscle", options.muscle}};
+  if (!sim::muscle_from_name(options.muscle)) {
+    throw std::runtime_error(fmt::format("--muscle: '{}' is not flexor, extensor, ulnar or radial", options.muscle));
+  }
+
+  // Numbers first, against the user's own lines (NaN, empty cells, text where a number belongs).
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == "muscle" || names[i] == "direction") continue;
+    for (std::size_t r = 0; r < table.row_count(); ++r) table.number(r, source_columns[i]);
+  }
+  // Write to a scratch directory, read it back as the diagnosis will (every cell checked), then move it in place.
+  const fs::path scratch = out.string() + ".importing";
+  fs::remove_all(scratch);
+  fs::create_directories(scratch);
+  try {
+    {
+      experiments::LogWriter writer(scratch, "trials",
+                                    {.kind = spec.log_kind, .source = "import", .config = config, .columns = columns,
+                                     .case_count = 1});
+      for (std::size_t r = 0; r < table.row_count(); ++r) {
+        std::vector<std::string> cells;
+        for (int c : source_columns) cells.push_back(table.cell(r, c));
+        writer.write_row(cells);
+      }
+    }
+    std::vector<Trial> trials;
+    try {
+      trials = read_trials(scratch / "trials.json", out.filename().string());
+    } catch (const std::exception& e) {
+      // Name the user's file, not the scratch copy: the line numbers are the same (the header is line 1 in both).
+      std::string message = e.what();
+      const std::string scratch_csv = (scratch / "trials.csv").string();
+      if (auto at = message.find(scratch_csv); at != std::string::npos) message.replace(at, scratch_csv.size(), csv.string());
+      throw std::runtime_error(message);
+    }
+    fs::create_directories(out);
+    for (const char* file : {"trials.csv", "trials.json"}) fs::rename(scratch / file, out / file);
+    fs::remove_all(scratch);
+  } catch (...) {
+    fs::remove_all(scratch);
+    throw;
+  }
+  return {out / "trials.csv", table.row_count()};
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,96 @@
+#pragma once
+// The sim-to-real gap diagnosis (docs/diagnosis.md): replay every real trial with the nominal model, localise the
+// residual, then attribute it to the catalogue's effects (effects.h): fit each effect's parameters to the training
+// part of the data (NLopt, bounded), measure the error on the held-out part the fit did not see, rank the effects by
+// held-out improvement less a penalty per parameter, with a bootstrap interval over the held-out units, and combine
+// them greedily while the held-out error still falls meaningfully.
+//
+// Error metric ("excess_rms_over_noise"): for each trial, E = mean (r / sigma)^2 over its held-out measurements
+// (sigma its repeat-to-repeat noise), and the gap sqrt(max(0, E - 1)): the systematic residual in units of the
+// noise, 0 for a model that is right up to the noise. Averaged over the trials of each kind of experiment, then over
+// the kinds, so that a long trajectory does not drown a torque sweep.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "diagnosis/effects.h"
+#include "diagnosis/localization.h"
+#include "diagnosis/real_data.h"
+#include "diagnosis/replay.h"
+
+namespace softwrist::diagnosis {
+
+inline constexpr const char* kErrorMetric = "excess_rms_over_noise";
+
+struct DiagnosisOptions {
+  std::vector<EffectId> effects;   // empty: the whole catalogue
+  int jobs = 2;                    // effects fitted in parallel
+  int bootstrap = 200;             // resamples of the held-out units
+  std::uint64_t seed = 1;
+  int max_evaluations = 50;        // per fit, after the start grid
+  double alpha = 0.01;             // significance of the gap tests (before Bonferroni)
+  double parameter_penalty = 0.03; // subtracted from an effect's shrink fraction per fitted parameter when ranking
+  double min_gain = 0.1;           // an effect joins the combination if it cuts the held-out error by this fraction
+  double explained_fraction = 0.5; // the verdict names an effect when the combination closes this much of the gap
+  int max_combined = 3;
+};
+
+// How an effect did: its fitted parameters, the held-out error before (nominal, or the combination it was added to)
+// and after, the fraction of it that closed, with a 95 % bootstrap interval.
+struct EffectFit {
+  EffectId id{};
+  std::string name;
+  bool applicable = true;  // false when no trial is of a kind it acts on
+  std::vector<double> values;
+  std::vector<std::pair<std::string, double>> params;
+  double train_error_before = 0.0, train_error_after = 0.0;  // the fit's objective
+  double heldout_error_before = 0.0, heldout_error_after = 0.0;
+  double shrink_fraction = 0.0, ci_low = 0.0, ci_high = 0.0;
+  double score = 0.0;  // shrink_fraction less the parameter penalty: the ranking
+  int evaluations = 0;
+};
+
+// One trial's gap with the nominal model and, after the diagnosis, with the corrected one.
+struct TrialGap {
+  std::string experiment;
+  TrialKind kind{};
+  std::string unit;
+  double noise = 0.0;
+  std::string noise_source;
+  double rms_nominal = 0.0, rms_corrected = 0.0;  // all its measurements
+  double p_value = 1.0;  // of its nominal residual being noise alone (localization's "all")
+  bool significant = false;
+  std::size_t points = 0;
+};
+
+struct Diagnosis {
+  std::string verdict;  // an effect's name, "none" or "unexplained"
+  std::string reason;
+  std::vector<EffectFit> effects;      // each effect alone on the nominal model, best first
+  std::vector<EffectFit> combination;  // the greedy combination, in the order the effects joined
+  double heldout_nominal = 0.0, heldout_corrected = 0.0;
+  bool remaining_gap_significant = false;  // with the corrected model, some trial still differs beyond its noise
+  std::vector<TrialGap> trials;
+  std::vector<LocalizationEntry> localization;
+  std::vector<FileProblem> problems;
+  RealData data;  // the trials diagnosed (prepared points refer to them)
+  // For the report: the predictions of the nominal and corrected models, per trial, aligned with prepared points.
+  std::vector<PreparedTrial> prepared;
+  std::vector<std::vector<double>> nominal_predictions, corrected_predictions;
+  std::optional<ModelVariant> corrected;
+};
+
+// Diagnoses `data` against `nominal`. Trials the model cannot replay join data.problems; throws only when no trial
+// is left.
+Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal, ReplayEngine& engine,
+                   const DiagnosisOptions& options);
+
+// diagnosis.json: {"verdict", "reason", "error_metric", "effects": [...], "combination": [...], "localization": [...],
+// "trials": [...], "skipped": [...]}.
+nlohmann::json to_json(const Diagnosis& diagnosis);
+
+}  // namespace softwrist::diagnosis

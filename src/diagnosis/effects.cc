@@ -1,0 +1,167 @@
+#include "diagnosis/effects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "physics/errors.h"
+#include "physics/paper_parameters.h"
+#include "physics/units.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+using K = TrialKind;
+
+std::vector<EffectSpec> make_catalogue() {
+  return {
+      {EffectId::kMountStretch, "mount_stretch",
+       "the mounting points stretch, F = K dx^2 (Eqn. fabric_stretching), self-consistently; torque data constrain only "
+       "the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
+       "43.36:1097.50 when the nominal has none)",
+       {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN}},
+       {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
+      {EffectId::kFpamParams, "fpam_params",
+       "the fPAM's r0 scaled and eps_max shifted at every pressure of its table (Eqn. force)",
+       {{"r0_scale", 0.7, 1.3, false, 1.0}, {"eps_max_shift", -0.08, 0.08, false, 0.0}},
+       {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
+      {EffectId::kRegulatorLag, "regulator_lag",
+       "the regulators follow the command with another first-order time constant and a dead time",
+       {{"time_constant_s", 0.01, 1.0, true, NAN}, {"dead_time_s", 0.0, 0.3, false, 0.0}},
+       {K::kTrajectory}},
+      {EffectId::kHysteresis, "hysteresis",
+       "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h)",
+       {{"fraction", 0.0, 0.4, false, 0.0}},
+       {K::kTensile}},
+      {EffectId::kWrapGeometry, "wrap_geometry",
+       "the wrist the muscles wrap around has another radius (Eqns. parameters2, length, tau2)",
+       {{"wrist_radius_scale", 0.5, 1.5, false, 1.0}},
+       {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
+      {EffectId::kPassiveWrist, "passive_wrist",
+       "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal",
+       {{"stiffness_scale", 0.1, 10.0, true, 1.0}, {"damping_scale", 0.1, 10.0, true, 1.0}},
+       {K::kRangeOfMotion, K::kTrajectory}},
+      {EffectId::kImuBias, "imu_bias",
+       "the IMU pair's angles carry an offset and arrive late",
+       {{"offset_fe_deg", -10.0, 10.0, false, 0.0}, {"offset_ur_deg", -10.0, 10.0, false, 0.0},
+        {"latency_s", 0.0, 0.2, false, 0.0}},
+       {K::kTrajectory}},
+  };
+}
+
+// Table torque_measurement_parameters' K1 and K2 [N/m^2], whose ratio splits a fitted series stiffness.
+physics::MountStiffness ratio_source(const sim::DeviceDescription& device) {
+  if (device.mount_stiffness.forearm != 0.0 && device.mount_stiffness.hand != 0.0) return device.mount_stiffness;
+  return {.forearm = 43.36e4, .hand = 1097.50e4};
+}
+
+}  // namespace
+
+bool EffectSpec::acts_on_kind(TrialKind kind) const {
+  return std::find(acts_on.begin(), acts_on.end(), kind) != acts_on.end();
+}
+
+const std::vector<EffectSpec>& effect_catalogue() {
+  static const std::vector<EffectSpec> catalogue = make_catalogue();
+  return catalogue;
+}
+
+const EffectSpec& effect_spec(EffectId id) {
+  for (const auto& spec : effect_catalogue()) {
+    if (spec.id == id) return spec;
+  }
+  throw std::logic_error("effect not in the catalogue");
+}
+
+std::optional<EffectId> effect_from_name(std::string_view name) {
+  for (const auto& spec : effect_catalogue()) {
+    if (spec.name == name) return spec.id;
+  }
+  return std::nullopt;
+}
+
+void apply_effect(EffectId id, std::span<const double> values, ModelVariant& variant) {
+  if (values.size() != effect_spec(id).parameters.size()) throw std::logic_error("wrong number of effect parameters");
+  sim::DeviceDescription& device = variant.device;
+  switch (id) {
+    case EffectId::kMountStretch: {
+      // K_s = 1/c^2 with c = 1/sqrt(K1) + 1/sqrt(K2); keep c1:c2 of the ratio source.
+      const physics::MountStiffness ratio = ratio_source(device);
+      const double c1 = 1.0 / std::sqrt(std::abs(ratio.forearm)), c2 = 1.0 / std::sqrt(std::abs(ratio.hand));
+      const double c = 1.0 / std::sqrt(values[0] * 1e4);
+      const double scale = c / (c1 + c2);
+      device.mount_stiffness = {.forearm = 1.0 / std::pow(c1 * scale, 2), .hand = 1.0 / std::pow(c2 * scale, 2)};
+      if (device.stretch_mode == physics::StretchMode::kNone) device.stretch_mode = physics::StretchMode::kSelfConsistent;
+      break;
+    }
+    case EffectId::kFpamParams: {
+      std::vector<physics::FpamTableRow> rows = device.fpam.rows();
+      for (auto& row : rows) {
+        row.radius *= values[0];
+        row.max_contraction = std::clamp(row.max_contraction + values[1], 0.01,
+                                         physics::max_contraction_upper_bound() - 1e-6);
+      }
+      device.fpam = rows.size() == 1
+                        ? physics::FpamParameters::Constant(rows[0].radius, rows[0].max_contraction, device.fpam.fabric())
+                        : physics::FpamParameters::Table(std::move(rows), device.fpam.fabric());
+      break;
+    }
+    case EffectId::kRegulatorLag:
+      device.regulator.time_constant = values[0];
+      variant.regulator_dead_time = values[1];
+      break;
+    case EffectId::kHysteresis:
+      variant.hysteresis = values[0];
+      break;
+    case EffectId::kWrapGeometry:
+      for (std::size_t i = 0; i < device.muscles.size(); ++i) {
+        device.muscles[i].wrist_radius *= values[0];
+        physics::validate(device.muscles[i].placement, device.muscles[i].wrist_radius);
+      }
+      break;
+    case EffectId::kPassiveWrist:
+      device.wrist.stiffness_fe *= values[0];
+      device.wrist.stiffness_ur *= values[0];
+      device.wrist.damping_fe *= values[1];
+      device.wrist.damping_ur *= values[1];
+      break;
+    case EffectId::kImuBias:
+      variant.imu_offset_fe = units::deg_to_rad(values[0]);
+      variant.imu_offset_ur = units::deg_to_rad(values[1]);
+      variant.imu_latency = values[2];
+      break;
+  }
+}
+
+std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal) {
+  const EffectSpec& spec = effect_spec(id);
+  std::vector<double> start;
+  for (const ParameterSpec& p : spec.parameters) {
+    start.push_back(std::isnan(p.neutral) ? (p.log_scale ? std::sqrt(p.lower * p.upper) : 0.5 * (p.lower + p.upper))
+                                          : p.neutral);
+  }
+  if (id == EffectId::kRegulatorLag) start[0] = nominal.regulator.time_constant;
+  if (id == EffectId::kMountStretch && nominal.stretch_mode != physics::StretchMode::kNone) {
+    const double c = 1.0 / std::sqrt(std::abs(nominal.mount_stiffness.forearm)) +
+                     1.0 / std::sqrt(std::abs(nominal.mount_stiffness.hand));
+    start[0] = 1.0 / (c * c) / 1e4;
+  }
+  for (std::size_t i = 0; i < start.size(); ++i) start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);
+  return start;
+}
+
+std::vector<std::pair<std::string, double>> describe_values(EffectId id, std::span<const double> values,
+                                                            const sim::DeviceDescription& nominal) {
+  const EffectSpec& spec = effect_spec(id);
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t i = 0; i < values.size(); ++i) out.emplace_back(spec.parameters[i].name, values[i]);
+  if (id == EffectId::kMountStretch) {
+    ModelVariant variant{.device = nominal};
+    apply_effect(id, values, variant);
+    out.emplace_back("K1_n_per_cm2", variant.device.mount_stiffness.forearm / 1e4);
+    out.emplace_back("K2_n_per_cm2", variant.device.mount_stiffness.hand / 1e4);
+  }
+  return out;
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,62 @@
+#pragma once
+// The catalogue of candidate unmodelled effects: each a switchable, parameterised extension of the nominal model.
+// Most live in the model itself (the placement file the MuJoCo model and the plugin are generated from: mount
+// stiffness, fPAM r0 and eps_max, regulator time constant, wrist radius, relaxed-wrist stiffness and damping); the
+// rest act where the model meets the measurement (regulator dead time on the commands, IMU offset and latency on the
+// angles, loading/unloading hysteresis of the fPAM force on the tensile rig).
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "diagnosis/real_data.h"
+#include "sim/device.h"
+
+namespace softwrist::diagnosis {
+
+enum class EffectId { kMountStretch, kFpamParams, kRegulatorLag, kHysteresis, kWrapGeometry, kPassiveWrist, kImuBias };
+
+struct ParameterSpec {
+  std::string name;  // with its unit: K1_n_per_cm2, dead_time_s, ...
+  double lower = 0.0, upper = 0.0;
+  bool log_scale = false;  // searched in log space (stiffnesses spanning decades)
+  double neutral = 0.0;    // the value that leaves the nominal model unchanged, where one exists
+};
+
+struct EffectSpec {
+  EffectId id;
+  std::string name;
+  std::string description;
+  std::vector<ParameterSpec> parameters;
+  std::vector<TrialKind> acts_on;  // the kinds of data it changes
+  bool acts_on_kind(TrialKind kind) const;
+};
+
+const std::vector<EffectSpec>& effect_catalogue();
+const EffectSpec& effect_spec(EffectId id);
+std::optional<EffectId> effect_from_name(std::string_view name);
+
+// The model a replay runs: the nominal device with effects switched on.
+struct ModelVariant {
+  sim::DeviceDescription device;  // effects that live in the placement file are applied here
+  double regulator_dead_time = 0.0;  // [s] commands reach the regulators this late
+  double hysteresis = 0.0;           // fPAM force x (1 + h) loading, x (1 - h) unloading
+  double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
+  double imu_latency = 0.0;          // [s] the measured angles are this old
+};
+
+// Switches effect `id` on in `variant` with `values` in its spec's units (one per parameter). Values outside a
+// physical device (a wrist radius reaching a mount) throw physics::InvalidParameter.
+void apply_effect(EffectId id, std::span<const double> values, ModelVariant& variant);
+
+// Where a fit of effect `id` starts: its neutral values, or the nominal device's own (regulator time constant, series
+// mount stiffness); the middle of the range (in log space where searched so) when the nominal has no such value.
+std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal);
+
+// The fitted values with their names, and the values they imply (K1 and K2 of a series stiffness).
+std::vector<std::pair<std::string, double>> describe_values(EffectId id, std::span<const double> values,
+                                                            const sim::DeviceDescription& nominal);
+
+}  // namespace softwrist::diagnosis

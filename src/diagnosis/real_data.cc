@@ -1,0 +1,197 @@
+#include "diagnosis/real_data.h"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "experiments/trial_log.h"
+#include "io/text_file.h"
+#include "physics/units.h"
+
+namespace softwrist::diagnosis {
+namespace fs = std::filesystem;
+using units::deg_to_rad;
+using units::kpa_to_pa;
+
+const char* to_string(TrialKind kind) {
+  switch (kind) {
+    case TrialKind::kTorqueSweep: return "torque_sweep";
+    case TrialKind::kRangeOfMotion: return "range_of_motion";
+    case TrialKind::kTensile: return "tensile";
+    case TrialKind::kTrajectory: return "trajectory";
+  }
+  return "?";
+}
+
+std::size_t Trial::size() const { return sweep.size() + rom.size() + tensile.size() + trajectory.size(); }
+
+namespace {
+
+[[noreturn]] void fail_at(const io::CsvTable& table, std::size_t row, const std::string& problem) {
+  throw std::runtime_error(fmt::format("{}:{}: {}", table.source(), table.line_of(row), problem));
+}
+
+sim::MuscleIndex muscle_cell(const io::CsvTable& table, std::size_t row, int column) {
+  const std::string& name = table.cell(row, column);
+  if (const auto muscle = sim::muscle_from_name(name)) return *muscle;
+  fail_at(table, row, fmt::format("muscle: '{}' is not flexor, extensor, ulnar or radial", name));
+}
+
+int integer_cell(const io::CsvTable& table, std::size_t row, int column) {
+  if (column < 0) return 0;
+  const double value = table.number(row, column);
+  if (value != static_cast<int>(value) || value < 0) fail_at(table, row, fmt::format("{}: must be a count from 0", table.header()[column]));
+  return static_cast<int>(value);
+}
+
+// A pressure cell [kPa] as pascals; the regulator range is checked against the device later, this only refuses
+// what no fPAM holds.
+double pressure_cell(const io::CsvTable& table, std::size_t row, int column) {
+  const double kpa = table.number(row, column);
+  if (kpa < 0.0 || kpa > 1000.0) fail_at(table, row, fmt::format("{}: {} kPa is outside 0..1000 kPa", table.header()[column], kpa));
+  return kpa_to_pa(kpa);
+}
+
+std::vector<Trial> sweep_trials(const experiments::TrialLog& log, Trial base) {
+  const io::CsvTable& t = log.table;
+  const int c_angle = t.column("angle_deg"), c_pressure = t.column("pressure_kpa"), c_torque = t.column("torque_nm");
+  const int c_rep = t.find_column("repetition"), c_muscle = t.find_column("muscle");
+  sim::MuscleIndex default_muscle = sim::kFlexor;
+  if (log.header.config.contains("muscle") && log.header.config["muscle"].is_string()) {
+    if (const auto m = sim::muscle_from_name(log.header.config["muscle"].get<std::string>())) default_muscle = *m;
+  }
+  base.kind = TrialKind::kTorqueSweep;
+  for (std::size_t r = 0; r < t.row_count(); ++r) {
+    base.sweep.push_back({.muscle = c_muscle >= 0 ? muscle_cell(t, r, c_muscle) : default_muscle,
+                          .angle = deg_to_rad(t.number(r, c_angle)),
+                          .pressure = pressure_cell(t, r, c_pressure),
+                          .torque = t.number(r, c_torque),
+                          .repetition = integer_cell(t, r, c_rep)});
+  }
+  return {base};
+}
+
+std::vector<Trial> rom_trials(const experiments::TrialLog& log, Trial base) {
+  const io::CsvTable& t = log.table;
+  const int c_muscle = t.column("muscle"), c_pressure = t.column("pressure_kpa"), c_limit = t.column("limit_deg");
+  const int c_rep = t.find_column("repetition");
+  base.kind = TrialKind::kRangeOfMotion;
+  for (std::size_t r = 0; r < t.row_count(); ++r) {
+    base.rom.push_back({.muscle = muscle_cell(t, r, c_muscle),
+                        .pressure = pressure_cell(t, r, c_pressure),
+                        .limit = deg_to_rad(t.number(r, c_limit)),
+                        .repetition = integer_cell(t, r, c_rep)});
+  }
+  return {base};
+}
+
+std::vector<Trial> tensile_trials(const experiments::TrialLog& log, Trial base) {
+  const io::CsvTable& t = log.table;
+  const int c_pressure = t.column("pressure_kpa"), c_eps = t.column("contraction"), c_force = t.column("force_n");
+  const int c_direction = t.find_column("direction"), c_cycle = t.find_column("cycle");
+  base.kind = TrialKind::kTensile;
+  for (std::size_t r = 0; r < t.row_count(); ++r) {
+    const double eps = t.number(r, c_eps);
+    if (eps < -0.5 || eps >= 1.0) fail_at(t, r, fmt::format("contraction: {} is not a contraction ratio (-0.5..1)", eps));
+    bool loading = true;
+    if (c_direction >= 0) {
+      const std::string& d = t.cell(r, c_direction);
+      if (d != "loading" && d != "unloading") fail_at(t, r, fmt::format("direction: '{}' is not loading or unloading", d));
+      loading = d == "loading";
+    }
+    base.tensile.push_back({.pressure = pressure_cell(t, r, c_pressure), .contraction = eps,
+                            .force = t.number(r, c_force), .loading = loading, .cycle = integer_cell(t, r, c_cycle)});
+  }
+  return {base};
+}
+
+std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial base) {
+  const io::CsvTable& t = log.table;
+  const int c_t = t.column("t_s"), c_fe = t.column("measured_fe_deg"), c_ur = t.column("measured_ur_deg");
+  std::array<int, 4> c_cmd{};
+  for (std::size_t m = 0; m < 4; ++m) c_cmd[m] = t.column(fmt::format("cmd_{}_kpa", control::kMuscleNames[m]));
+  const int c_case = t.find_column("case");
+  if (log.header.config.contains("hand_supported") && log.header.config["hand_supported"] == true) base.gravity = 0.0;
+  base.kind = TrialKind::kTrajectory;
+  std::map<std::string, Trial> by_case;  // rows of several cases may interleave in a merged log
+  std::vector<std::string> order;
+  for (std::size_t r = 0; r < t.row_count(); ++r) {
+    const std::string key = c_case >= 0 ? t.cell(r, c_case) : "0";
+    auto [it, inserted] = by_case.try_emplace(key, base);
+    if (inserted) {
+      it->second.name = base.name + (c_case >= 0 ? ":case " + key : "");
+      order.push_back(key);
+    }
+    TrajectorySample s{.t = t.number(r, c_t), .fe = deg_to_rad(t.number(r, c_fe)), .ur = deg_to_rad(t.number(r, c_ur))};
+    for (std::size_t m = 0; m < 4; ++m) s.command_kpa[m] = units::pa_to_kpa(pressure_cell(t, r, c_cmd[m]));
+    auto& samples = it->second.trajectory;
+    if (!samples.empty() && !(s.t > samples.back().t)) {
+      fail_at(t, r, fmt::format("t_s: {} does not follow {} (time must increase within a case)", s.t, samples.back().t));
+    }
+    if (samples.empty() && s.t < 0.0) fail_at(t, r, "t_s: a trajectory starts at t >= 0");
+    samples.push_back(s);
+  }
+  std::vector<Trial> trials;
+  for (const auto& key : order) {
+    if (by_case.at(key).trajectory.size() < 10) {
+      throw std::runtime_error(fmt::format("{}: case {} has {} rows; a trajectory needs at least 10", t.source(), key,
+                                           by_case.at(key).trajectory.size()));
+    }
+    trials.push_back(std::move(by_case.at(key)));
+  }
+  return trials;
+}
+
+}  // namespace
+
+std::vector<Trial> read_trials(const fs::path& sidecar, const std::string& name) {
+  const experiments::TrialLog log = experiments::read_log(sidecar.parent_path(), sidecar.stem().string());
+  if (log.table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", log.table.source()));
+  Trial base{.name = name, .file = log.table.source()};
+  const std::string& kind = log.header.kind;
+  if (kind == "torque_validation" || kind == "torque_sweep") return sweep_trials(log, base);
+  if (kind == "range_of_motion") return rom_trials(log, base);
+  if (kind == "tensile") return tensile_trials(log, base);
+  if (kind == "tracking" || kind == "trajectory") return trajectory_trials(log, base);
+  throw std::runtime_error(fmt::format("{}: kind '{}' has no measurements a diagnosis compares (it reads "
+                                       "torque_validation, torque_sweep, range_of_motion, tensile, tracking, trajectory)",
+                                       sidecar.string(), kind));
+}
+
+RealData load_real_data(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw std::runtime_error(fmt::format("{}: not a directory of trial logs", dir.string()));
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.is_regular_file() && (entry.path().extension() == ".json" || entry.path().extension() == ".csv")) {
+      files.push_back(entry.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  RealData data;
+  for (const fs::path& file : files) {
+    const std::string name = fs::relative(file, dir).replace_extension().generic_string();
+    if (file.extension() == ".csv") {
+      // A run directory's other CSVs (model curves) sit beside its log; a lone CSV is a user's file not yet imported.
+      const bool has_sidecar = fs::exists(fs::path(file).replace_extension(".json"));
+      const bool beside_a_log = fs::exists(file.parent_path() / "trials.json");
+      if (!has_sidecar && !beside_a_log) {
+        data.problems.push_back({file.string(), "a CSV without its log sidecar (.json); convert it with "
+                                                "`softwrist import --kind KIND FILE.csv --out DIR`"});
+      }
+      continue;
+    }
+    try {
+      // Only sidecars of the log format are logs; summaries and bridge.json sit beside them.
+      const auto json = nlohmann::json::parse(io::read_text_file(file), nullptr, /*allow_exceptions=*/false);
+      if (!json.is_object() || json.value("format", "") != experiments::kLogFormat) continue;
+      for (Trial& trial : read_trials(file, name)) data.trials.push_back(std::move(trial));
+    } catch (const std::exception& e) {
+      data.problems.push_back({file.string(), e.what()});
+    }
+  }
+  return data;
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,82 @@
+#pragma once
+// The "real" data a gap diagnosis compares the model with: every trial log under a directory (docs/log-format.md),
+// whether written by a hardware trial, an imported CSV (import.h) or a simulated experiment standing in for a device.
+// Each log becomes one or more trials in SI units and the wrist's sign convention; a file that cannot be read is
+// reported with its reason and the rest of the data is still used.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "control/plant.h"
+#include "sim/device.h"
+
+namespace softwrist::diagnosis {
+
+enum class TrialKind { kTorqueSweep, kRangeOfMotion, kTensile, kTrajectory };
+const char* to_string(TrialKind kind);
+
+// The torque of one muscle with the wrist held (Section Torque applied by the exosuit).
+struct SweepPoint {
+  sim::MuscleIndex muscle = sim::kFlexor;
+  double angle = 0.0;     // [rad] the held wrist angle, flexion / ulnar positive
+  double pressure = 0.0;  // [Pa]
+  double torque = 0.0;    // [N m] positive in the muscle's own direction
+  int repetition = 0;
+};
+
+// Where one muscle alone settles the relaxed wrist (Section Range of motion).
+struct RomPoint {
+  sim::MuscleIndex muscle = sim::kFlexor;
+  double pressure = 0.0;  // [Pa]
+  double limit = 0.0;     // [rad] in the muscle's own direction
+  int repetition = 0;
+};
+
+// One reading of an fPAM tensile test (Fig. TensileTest).
+struct TensilePoint {
+  double pressure = 0.0;     // [Pa]
+  double contraction = 0.0;  // contraction ratio eps
+  double force = 0.0;        // [N]
+  bool loading = true;       // stretching (loading) or relaxing (unloading); loading when the log does not say
+  int cycle = 0;
+};
+
+// One control-loop instant of a trajectory: what was commanded and what the IMUs said.
+struct TrajectorySample {
+  double t = 0.0;                       // [s] from the start of the run
+  control::Pressures command_kpa{};     // flexor, extensor, ulnar, radial
+  double fe = 0.0, ur = 0.0;            // [rad] measured wrist angles
+};
+
+struct Trial {
+  TrialKind kind = TrialKind::kTorqueSweep;
+  std::string name;  // the log's path under the data directory, and the case for trajectories
+  std::string file;  // the CSV, for messages
+  double gravity = 9.81;  // [m/s^2]; 0 when a table carried the hand
+  std::vector<SweepPoint> sweep;
+  std::vector<RomPoint> rom;
+  std::vector<TensilePoint> tensile;
+  std::vector<TrajectorySample> trajectory;
+  std::size_t size() const;
+};
+
+struct FileProblem {
+  std::string file;
+  std::string reason;
+};
+
+struct RealData {
+  std::vector<Trial> trials;
+  std::vector<FileProblem> problems;  // files (or trials) left out, each with the reason
+};
+
+// Every log (a <name>.json sidecar of format softwrist.log/1 beside its <name>.csv) under `dir`, recursively, in
+// path order. Logs of kinds without measurements to compare (design optimization) are listed as problems; a CSV
+// without a sidecar too, with the import command that makes one. Throws only when `dir` is not a directory.
+RealData load_real_data(const std::filesystem::path& dir);
+
+// The trials of one log; throws std::runtime_error naming the file, line and column of a problem.
+std::vector<Trial> read_trials(const std::filesystem::path& sidecar, const std::string& name);
+
+}  // namespace softwrist::diagnosis

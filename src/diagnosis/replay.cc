@@ -1,0 +1,350 @@
+#include "diagnosis/replay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "physics/fpam_force.h"
+#include "physics/units.h"
+#include "sim/model.h"
+#include "sim/model_builder.h"
+#include "sim/simulated_plant.h"
+#include "sim/wrist_sim.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+using units::pa_to_kpa;
+using units::rad_to_deg;
+
+constexpr double kTrajectoryGroup = 1.0;  // [s] a repeat group of a trajectory: samples whose systematic part is alike
+constexpr double kTrajectoryUnit = 4.0;   // [s] a bootstrap unit
+constexpr double kClusterGap = 2.5;
+constexpr double kRomSettle = 6.0;        // [s] the range-of-motion experiment's settling time       // [deg] held angles further apart than this are different set angles
+
+// Cluster index of each value: sorted, a new cluster where the gap exceeds `gap`.
+std::vector<int> clusters(const std::vector<double>& values, double gap) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  std::vector<int> id(values.size(), 0);
+  int current = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k > 0 && values[order[k]] - values[order[k - 1]] > gap) ++current;
+    id[order[k]] = current;
+  }
+  return id;
+}
+
+// Dense ids for arbitrary keys, in order of first appearance.
+template <class Key>
+class Ids {
+ public:
+  int operator()(const Key& key) { return ids_.try_emplace(key, static_cast<int>(ids_.size())).first->second; }
+  int count() const { return static_cast<int>(ids_.size()); }
+
+ private:
+  std::map<Key, int> ids_;
+};
+
+// Pooled within-group variance of `residuals`; falls back to successive differences (in group order) without repeats.
+void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residuals) {
+  std::map<int, std::pair<double, int>> sums;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    auto& s = sums[prepared.points[i].group];
+    s.first += residuals[i];
+    ++s.second;
+  }
+  double ss = 0.0;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    const auto& s = sums[prepared.points[i].group];
+    ss += std::pow(residuals[i] - s.first / s.second, 2);
+  }
+  const int dof = static_cast<int>(residuals.size()) - static_cast<int>(sums.size());
+  if (dof >= 2) {
+    prepared.noise = std::sqrt(ss / dof);
+    prepared.noise_dof = dof;
+    prepared.noise_source = "pooled spread of repeated measurements";
+  } else {
+    double sd = 0.0;
+    for (std::size_t i = 1; i < residuals.size(); ++i) sd += std::pow(residuals[i] - residuals[i - 1], 2);
+    prepared.noise_dof = std::max(1, static_cast<int>(residuals.size()) - 1);
+    prepared.noise = std::sqrt(sd / (2.0 * prepared.noise_dof));
+    prepared.noise_source = "successive differences (no repeated measurements)";
+  }
+}
+
+// White measurement noise of a sampled signal from its second differences (robust to steps and to smooth motion):
+// for white noise var(y[i+1] - 2 y[i] + y[i-1]) = 6 sigma^2; the median absolute value is 0.6745 of its sigma.
+double second_difference_noise(const std::vector<double>& y) {
+  std::vector<double> d;
+  for (std::size_t i = 1; i + 1 < y.size(); ++i) d.push_back(std::abs(y[i + 1] - 2.0 * y[i] + y[i - 1]));
+  if (d.empty()) return 0.0;
+  std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+  return d[d.size() / 2] / 0.6745 / std::sqrt(6.0);
+}
+
+PreparedTrial prepare_sweep(const Trial& trial) {
+  PreparedTrial p{.trial = &trial, .unit = "N m"};
+  std::map<int, std::vector<std::size_t>> by_muscle;
+  for (std::size_t i = 0; i < trial.sweep.size(); ++i) by_muscle[trial.sweep[i].muscle].push_back(i);
+  p.points.resize(trial.sweep.size());
+  Ids<std::tuple<int, int, long>> groups;
+  Ids<std::pair<int, int>> units;
+  for (const auto& [muscle, rows] : by_muscle) {
+    std::vector<double> angles;
+    for (std::size_t i : rows) angles.push_back(rad_to_deg(trial.sweep[i].angle));
+    const std::vector<int> cluster = clusters(angles, kClusterGap);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const SweepPoint& s = trial.sweep[rows[k]];
+      Point& point = p.points[rows[k]];
+      point.measured = s.torque;
+      point.angle_deg = angles[k];
+      point.pressure_kpa = pa_to_kpa(s.pressure);
+      point.muscle = muscle;
+      point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa)});
+      point.unit = units({muscle, cluster[k]});
+      point.heldout = cluster[k] % 2 == 1;  // every other held angle
+    }
+  }
+  return p;
+}
+
+PreparedTrial prepare_rom(const Trial& trial) {
+  PreparedTrial p{.trial = &trial, .unit = "deg"};
+  int max_repetition = 0;
+  for (const auto& r : trial.rom) max_repetition = std::max(max_repetition, r.repetition);
+  Ids<std::pair<int, long>> groups;
+  Ids<std::pair<int, int>> units;
+  for (const RomPoint& r : trial.rom) {
+    Point point{.measured = rad_to_deg(r.limit), .angle_deg = rad_to_deg(r.limit),
+                .pressure_kpa = pa_to_kpa(r.pressure), .muscle = r.muscle};
+    point.group = groups({r.muscle, std::lround(point.pressure_kpa)});
+    point.unit = units({r.muscle, r.repetition});
+    // Repeated trials: hold out every other repetition; a single one: the extensor and radial muscles.
+    point.heldout = max_repetition > 0 ? r.repetition % 2 == 1 : (r.muscle == sim::kExtensor || r.muscle == sim::kRadial);
+    p.points.push_back(point);
+  }
+  return p;
+}
+
+PreparedTrial prepare_tensile(const Trial& trial) {
+  PreparedTrial p{.trial = &trial, .unit = "N"};
+  std::vector<double> pressures;
+  for (const auto& t : trial.tensile) pressures.push_back(pa_to_kpa(t.pressure));
+  const std::vector<int> level = clusters(pressures, 1.0);
+  const int levels = level.empty() ? 0 : *std::max_element(level.begin(), level.end()) + 1;
+  Ids<std::tuple<int, bool, long>> groups;
+  for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
+    const TensilePoint& t = trial.tensile[i];
+    const long bin = std::lround(t.contraction / 0.005);
+    Point point{.measured = t.force, .pressure_kpa = pressures[i], .contraction = t.contraction,
+                .motion = t.loading ? 1 : -1};
+    point.group = groups({level[i], t.loading, bin});
+    // Several pressures: hold out every other pressure; one: every other contraction step.
+    point.unit = levels > 1 ? level[i] : static_cast<int>(bin);
+    point.heldout = point.unit % 2 == 1;
+    p.points.push_back(point);
+  }
+  return p;
+}
+
+PreparedTrial prepare_trajectory(const Trial& trial) {
+  PreparedTrial p{.trial = &trial, .unit = "deg"};
+  const auto& s = trial.trajectory;
+  const double t0 = s.front().t, t1 = s.back().t;
+  p.training_end_s = t0 + 0.5 * (t1 - t0);  // train on the first half, hold out the second
+  std::array<std::vector<double>, 2> y;
+  for (const auto& sample : s) {
+    y[0].push_back(rad_to_deg(sample.fe));
+    y[1].push_back(rad_to_deg(sample.ur));
+  }
+  double noise2 = 0.0;
+  for (int c = 0; c < 2; ++c) {
+    noise2 += 0.5 * std::pow(second_difference_noise(y[c]), 2);
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const std::size_t a = i >= 3 ? i - 3 : 0, b = std::min(s.size() - 1, i + 3);
+      const double rate = (y[c][b] - y[c][a]) / std::max(1e-9, s[b].t - s[a].t);
+      Point point{.measured = y[c][i], .angle_deg = y[c][i], .channel = c, .t_s = s[i].t};
+      point.motion = rate > 2.0 ? 1 : (rate < -2.0 ? -1 : 0);
+      point.group = c * 1000000 + static_cast<int>((s[i].t - t0) / kTrajectoryGroup);
+      point.unit = static_cast<int>((s[i].t - t0) / kTrajectoryUnit);
+      point.heldout = s[i].t >= p.training_end_s;
+      p.points.push_back(point);
+    }
+  }
+  p.noise = std::sqrt(noise2);
+  p.noise_dof = static_cast<int>(p.points.size());
+  p.noise_source = "second differences of the measured angles (white IMU noise)";
+  return p;
+}
+
+std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon) {
+  return fmt::format("{}|{}|{}|{}|{}", trial.name, trial.file, sim::device_to_json(variant.device),
+                     variant.regulator_dead_time, horizon);
+}
+
+}  // namespace
+
+std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, const ModelVariant& nominal) {
+  std::vector<PreparedTrial> prepared;
+  for (const Trial& trial : data.trials) {
+    PreparedTrial p;
+    switch (trial.kind) {
+      case TrialKind::kTorqueSweep: p = prepare_sweep(trial); break;
+      case TrialKind::kRangeOfMotion: p = prepare_rom(trial); break;
+      case TrialKind::kTensile: p = prepare_tensile(trial); break;
+      case TrialKind::kTrajectory: p = prepare_trajectory(trial); break;
+    }
+    if (trial.kind != TrialKind::kTrajectory) {
+      const std::vector<double> predicted = engine.predict(p, nominal, false);
+      std::vector<double> residuals(predicted.size());
+      for (std::size_t i = 0; i < predicted.size(); ++i) residuals[i] = p.points[i].measured - predicted[i];
+      estimate_noise(p, residuals);
+    }
+    prepared.push_back(std::move(p));
+  }
+  return prepared;
+}
+
+void ReplayEngine::check_replayable(const Trial& trial, const ModelVariant& variant) const {
+  const double max_kpa = pa_to_kpa(variant.device.regulator.max_pressure);
+  const auto check = [&](double kpa) {
+    if (kpa > max_kpa + 1e-9) {
+      throw std::runtime_error(fmt::format("{}: {} kPa is beyond the model's regulators ({} kPa)", trial.name, kpa, max_kpa));
+    }
+  };
+  for (const auto& s : trial.sweep) check(pa_to_kpa(s.pressure));
+  for (const auto& r : trial.rom) check(pa_to_kpa(r.pressure));
+  for (const auto& s : trial.trajectory) {
+    for (double kpa : s.command_kpa) check(kpa);
+  }
+  if (trial.kind == TrialKind::kTrajectory && trial.trajectory.back().t > 3600.0) {
+    throw std::runtime_error(fmt::format("{}: {} s is longer than the hour a replay is allowed", trial.name,
+                                         trial.trajectory.back().t));
+  }
+}
+
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
+                                                                      double horizon) {
+  const std::string key = cache_key(trial, variant, horizon);
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  }
+  sim::ModelOptions options;
+  options.gravity = trial.gravity;
+  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(variant.device, options), plugins_, trial.name);
+  sim::WristSim wrist(model);
+  wrist.reset();
+  auto result = std::make_shared<Simulated>();
+  result->dt = model->opt.timestep;
+  const auto steps = static_cast<std::size_t>(std::ceil(horizon / result->dt)) + 1;
+  result->fe.reserve(steps);
+  result->ur.reserve(steps);
+  const auto& samples = trial.trajectory;
+  std::size_t next = 0;  // the next logged command not yet applied
+  for (std::size_t k = 0; k < steps; ++k) {
+    const double commanded_at = wrist.time() - variant.regulator_dead_time;
+    bool changed = false;
+    while (next < samples.size() && samples[next].t <= commanded_at + 1e-12) {
+      ++next;
+      changed = true;
+    }
+    if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
+    result->fe.push_back(wrist.angle(sim::WristJoint::kFlexionExtension));
+    result->ur.push_back(wrist.angle(sim::WristJoint::kUlnarRadial));
+    wrist.run(result->dt);
+    if (!std::isfinite(result->fe.back()) || !std::isfinite(result->ur.back())) {
+      throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time()));
+    }
+  }
+  std::lock_guard lock(mutex_);
+  if (cache_.size() >= 32) cache_.erase(cache_.begin());
+  cache_.emplace(key, result);
+  return result;
+}
+
+std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const ModelVariant& variant,
+                                          bool training_only) {
+  const Trial& trial = *prepared.trial;
+  const sim::DeviceDescription& device = variant.device;
+  std::vector<double> out(prepared.points.size(), NAN);
+  switch (trial.kind) {
+    case TrialKind::kTorqueSweep: {
+      std::array<std::optional<physics::Muscle>, 4> muscles;
+      for (std::size_t i = 0; i < trial.sweep.size(); ++i) {
+        const SweepPoint& s = trial.sweep[i];
+        if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
+        out[i] = physics::muscle_state(*muscles[s.muscle], sim::direction_of(s.muscle) * s.angle, s.pressure).torque;
+      }
+      break;
+    }
+    case TrialKind::kRangeOfMotion: {
+      std::map<std::pair<int, double>, double> settled;  // the same muscle and pressure settle alike
+      for (const RomPoint& r : trial.rom) settled.try_emplace({r.muscle, r.pressure}, 0.0);
+      const std::string key = fmt::format("rom|{}|{}", sim::device_to_json(device), trial.gravity);
+      std::shared_ptr<const Simulated> cached;
+      {
+        std::lock_guard lock(mutex_);
+        if (auto it = cache_.find(key); it != cache_.end()) cached = it->second;
+      }
+      if (!cached) {
+        // Each muscle alone from the neutral wrist at rest, settled for kRomSettle as the range-of-motion experiment
+        // does; the analytic statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
+        sim::ModelOptions options;
+        options.gravity = trial.gravity;
+        const sim::Model model = sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
+        sim::WristSim wrist(model);
+        auto result = std::make_shared<Simulated>();
+        for (auto& [condition, angle] : settled) {
+          const auto muscle = static_cast<sim::MuscleIndex>(condition.first);
+          wrist.reset();
+          std::array<double, 4> command{};
+          command[static_cast<std::size_t>(muscle)] = pa_to_kpa(condition.second);
+          wrist.command_pressures_kpa(command);
+          wrist.run(kRomSettle);
+          result->fe.push_back(rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle))));
+        }
+        std::lock_guard lock(mutex_);
+        if (cache_.size() >= 32) cache_.erase(cache_.begin());
+        cache_.emplace(key, result);
+        cached = result;
+      }
+      std::size_t k = 0;
+      for (auto& [condition, angle] : settled) angle = cached->fe[k++];
+      for (std::size_t i = 0; i < trial.rom.size(); ++i) out[i] = settled.at({trial.rom[i].muscle, trial.rom[i].pressure});
+      break;
+    }
+    case TrialKind::kTensile:
+      for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
+        const TensilePoint& t = trial.tensile[i];
+        const double h = t.loading ? variant.hysteresis : -variant.hysteresis;
+        out[i] = physics::fpam_force(device.fpam, t.pressure, t.contraction) * (1.0 + h);
+      }
+      break;
+    case TrialKind::kTrajectory: {
+      const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
+      const auto simulated = simulate(trial, variant, horizon);
+      const double imu_period = sim::ImuModel{}.period_s;
+      const std::size_t n = trial.trajectory.size();
+      for (std::size_t i = 0; i < prepared.points.size(); ++i) {
+        const Point& point = prepared.points[i];
+        if (training_only && point.heldout) continue;
+        const double t = trial.trajectory[i % n].t;
+        // The reading the IMUs last sampled (every 10 ms), `latency` late.
+        const double sampled = std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period);
+        const auto& series = point.channel == 0 ? simulated->fe : simulated->ur;
+        const auto k = std::min(series.size() - 1, static_cast<std::size_t>(std::lround(sampled / simulated->dt)));
+        out[i] = rad_to_deg(series[k] + (point.channel == 0 ? variant.imu_offset_fe : variant.imu_offset_ur));
+      }
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,85 @@
+#pragma once
+// Replaying real trials with a model: the same held angles and pressures (torque sweeps), the same muscle and
+// pressure (range of motion), the same contraction and pressure (tensile tests), the same commands from the same
+// start (trajectories), and the residual of each measurement.
+//
+// How each kind is replayed, and why:
+//  - torque sweeps and tensile tests are static: the analytic model (physics::muscle_state, physics::fpam_force) is
+//    the law the plugin evaluates, and the MuJoCo simulation is cross-checked against it in tests/sim; replaying
+//    them analytically costs microseconds instead of a simulated hold of a second per point.
+//  - range of motion: the MuJoCo model, each muscle alone from the neutral wrist, settled for 6 s (as the
+//    range-of-motion experiment). The analytic statics (sim::settled_angle) leave out the 3D tendon paths and
+//    differ from the simulation by up to a degree, more than the motion capture's noise.
+//  - trajectories are dynamic: the MuJoCo model with the fPAM plugin, generated from the variant's device, runs the
+//    logged commands open loop (delayed by the regulator's dead time) from the neutral wrist at rest; the IMU pair
+//    is sampled every 10 ms, late by the variant's latency and offset by its bias.
+//
+// Prepared once per data set: each measurement's repeat group (same condition), its split unit (the training /
+// held-out split and the bootstrap resample whole units), where it lies (angle, pressure, muscle, motion), and each
+// trial's repeat-to-repeat noise.
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "diagnosis/effects.h"
+#include "diagnosis/real_data.h"
+#include "sim/plugins.h"
+
+namespace softwrist::diagnosis {
+
+struct Point {
+  double measured = 0.0;  // in the trial's unit: N m (sweeps), deg (range of motion, trajectories), N (tensile)
+  int group = 0;          // repeat group within the trial: the same condition measured again, or a 1 s block
+  int unit = 0;           // split and bootstrap unit within the trial
+  bool heldout = false;
+  // Where it lies, for the localisation (NaN or -1 where it does not apply).
+  double angle_deg = NAN;     // wrist angle (own direction for range of motion)
+  double pressure_kpa = NAN;
+  double contraction = NAN;
+  int muscle = -1;
+  int channel = -1;           // trajectories: 0 flexion/extension, 1 ulnar/radial
+  int motion = 0;             // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
+  double t_s = NAN;
+};
+
+struct PreparedTrial {
+  const Trial* trial = nullptr;
+  std::vector<Point> points;
+  std::string unit;          // of measured and residuals
+  double noise = 0.0;        // repeat-to-repeat standard deviation of one measurement, in `unit`
+  int noise_dof = 0;         // its degrees of freedom
+  std::string noise_source;  // how it was estimated
+  double training_end_s = 0.0;  // trajectories: the training part ends here
+};
+
+// Groups, units, the split and the noise of each trial (the noise of sweeps from the nominal model's residuals, so
+// that the held angle's jitter within a group does not count as noise).
+class ReplayEngine;
+std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, const ModelVariant& nominal);
+
+// Runs replays; holds the MuJoCo plugins and a small cache of simulated trajectories (a fit of the IMU's offset and
+// latency changes only what is read from a simulation, so it reuses one). Thread-safe.
+class ReplayEngine {
+ public:
+  explicit ReplayEngine(sim::PluginSet plugins) : plugins_(std::move(plugins)) {}
+  // The model's value for each point of `trial` (same order); with `training_only`, held-out points of trajectories
+  // are left NaN and the simulation stops at the end of the training part.
+  std::vector<double> predict(const PreparedTrial& trial, const ModelVariant& variant, bool training_only);
+  // Throws std::runtime_error naming why the model cannot replay the trial (a pressure beyond its regulators).
+  void check_replayable(const Trial& trial, const ModelVariant& variant) const;
+
+ private:
+  struct Simulated {
+    double dt = 0.0;
+    std::vector<double> fe, ur;  // [rad] true joint angles every dt from t = 0 (range of motion: settled angles)
+  };
+  std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon);
+  sim::PluginSet plugins_;
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const Simulated>> cache_;
+};
+
+}  // namespace softwrist::diagnosis
