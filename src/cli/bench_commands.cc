@@ -10,6 +10,7 @@
 
 #include "cli/arguments.h"
 #include "cli/bridge_commands.h"
+#include "cli/diagnose_commands.h"
 #include "experiments/design_optimization.h"
 #include "experiments/experiment.h"
 #include "experiments/tracking.h"
@@ -280,6 +281,7 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   render_bench->add_flag("--json", render_options->json, "Print {fps_640x480, fps_320x240, frames}");
   render_bench->callback([render_options, &out] { run_render_bench(*render_options, out); });
   add_bridge_bench(*bench, out);
+  add_diagnose_bench(*bench, out);
 }
 
 }  // namespace softwrist::cli

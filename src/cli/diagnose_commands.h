@@ -11,5 +11,7 @@
 namespace softwrist::cli {
 
 void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err);
+// `softwrist bench diagnose`: one full diagnosis of the paper-sized data set.
+void add_diagnose_bench(CLI::App& bench, std::ostream& out);
 
 }  // namespace softwrist::cli

@@ -140,7 +140,7 @@ double from_unit(const ParameterSpec& p, double u) {
 }
 
 // The bootstrap's 95 % interval of the shrink fraction, resampling each trial's held-out units with replacement;
-// both models see the same resample.
+// both models see the same resample. Resamples with no gap left to shrink are left out.
 std::pair<double, double> bootstrap_interval(const Problem& problem, const UnitSums& before, const UnitSums& after,
                                              int resamples, std::uint64_t seed) {
   const auto units = problem.heldout_units();
@@ -155,7 +155,8 @@ std::pair<double, double> bootstrap_interval(const Problem& problem, const UnitS
       for (std::size_t k = 0; k < units[t].size(); ++k) ++weights[t][units[t][pick(rng)]];
     }
     const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
-    shrinks.push_back(e0 > 0.0 ? (e0 - e1) / e0 : 0.0);
+    // A resample without any gap (all its units where the model was already right) says nothing of the shrink.
+    if (e0 > 0.0) shrinks.push_back((e0 - e1) / e0);
   }
   if (shrinks.empty()) return {0.0, 0.0};
   std::sort(shrinks.begin(), shrinks.end());
@@ -214,7 +215,10 @@ EffectFit fit_effect(const Problem& problem, EffectId id, const ModelVariant& ba
   for (bool more = true; more;) {
     std::vector<double> u(n);
     for (std::size_t i = 0; i < n; ++i) u[i] = levels[index[i]];
-    if (n < 3 || (index[0] + index[1] + index[2]) % 2 == 0) {  // three parameters: half the 27 points suffice
+    // One parameter: five levels; two or three: the corners and centre of the 3^n grid (sum of indices even).
+    std::size_t index_sum = 0;
+    for (std::size_t i = 0; i < n; ++i) index_sum += index[i];
+    if (n == 1 || index_sum % 2 == 0) {
       const double value = objective_at(values_of(u));
       if (value < best) {
         best = value;

@@ -306,7 +306,13 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
           std::array<double, 4> command{};
           command[static_cast<std::size_t>(muscle)] = pa_to_kpa(condition.second);
           wrist.command_pressures_kpa(command);
-          wrist.run(kRomSettle);
+          // Settled once the joint has been still (below 0.1 deg/s) for half a second after the first second, or
+          // after kRomSettle.
+          double still_since = 0.0;
+          while (wrist.time() < kRomSettle - 1e-9 && (wrist.time() < 1.0 || wrist.time() - still_since < 0.5)) {
+            wrist.run(0.05);
+            if (std::abs(wrist.velocity(sim::joint_of(muscle))) > 1.7e-3) still_since = wrist.time();
+          }
           result->fe.push_back(rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle))));
         }
         std::lock_guard lock(mutex_);
