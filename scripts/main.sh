@@ -35,3 +35,9 @@ kill -TERM "$emulator" && wait "$emulator"
 $softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet
 $softwrist report out/main/rehearsal_trial
 $softwrist report out/main/rehearsal_sim
+# The gap diagnosis on the paper's case: "real" data from the paper's device (whose mounts stretch), diagnosed against
+# a nominal model that leaves the stretching out (models/paper_device_rigid_mounts.json).
+rm -rf out/main/diagnosis_real
+$softwrist synthesize --model models/paper_device.json --out out/main/diagnosis_real --trajectory-s 72
+$softwrist diagnose --real out/main/diagnosis_real --model models/paper_device_rigid_mounts.json \
+  --out out/main/diagnosis

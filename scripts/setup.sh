@@ -15,6 +15,7 @@ packages=(
   libcli11-dev                    # command line
   nlohmann-json3-dev              # JSON configs and results
   libfmt-dev                      # formatting
+  libboost-dev                    # Boost.Math (header-only): F and chi-squared tests of the gap diagnosis
   libgtest-dev libgmock-dev       # tests
   libbenchmark-dev                # benchmarks
   python3-matplotlib              # report plots (softwrist report)
