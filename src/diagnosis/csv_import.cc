@@ -36,10 +36,9 @@ KindSpec kind_spec(const std::string& kind) {
 // The column a required name maps to, or an error that says whether it is missing or lacks its unit.
 int required_column(const io::CsvTable& table, const std::string& name) {
   if (const int c = table.find_column(name); c >= 0) return c;
+  // Every required name but contraction (and muscle) ends in its unit: _deg, _kpa, _nm, _n, _s.
   const auto underscore = name.rfind('_');
-  const bool has_unit = underscore != std::string::npos && name != "contraction" && name.substr(underscore) != "_fe" &&
-                        name.substr(underscore) != "_ur";
-  if (has_unit) {
+  if (underscore != std::string::npos) {
     const std::string base = name.substr(0, underscore);
     for (const std::string& h : table.header()) {
       if (h == base) {

@@ -28,14 +28,11 @@ struct UnitSums {
 
 struct Evaluation {
   std::vector<std::vector<double>> predictions;  // [trial][point]
-  bool ok = true;
 };
 
 class Problem {
  public:
-  Problem(std::vector<PreparedTrial>& trials, ReplayEngine& engine) : trials_(trials), engine_(engine) {
-    for (const auto& t : trials_) kinds_.insert(t.trial->kind);
-  }
+  Problem(std::vector<PreparedTrial>& trials, ReplayEngine& engine) : trials_(trials), engine_(engine) {}
 
   Evaluation evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed = nullptr) const {
     Evaluation e;
@@ -127,7 +124,6 @@ class Problem {
 
   std::vector<PreparedTrial>& trials_;
   ReplayEngine& engine_;
-  std::set<TrialKind> kinds_;
 };
 
 // Parameters <-> the unit cube the search runs in (log space where the spec says so).
@@ -313,12 +309,8 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   const Evaluation nominal_full = problem.evaluate(nominal, false);
   const Evaluation nominal_training = problem.evaluate(nominal, true);
   d.nominal_predictions = nominal_full.predictions;
-  std::vector<std::vector<double>> residuals(problem.size());
-  for (std::size_t t = 0; t < problem.size(); ++t) {
-    for (std::size_t i = 0; i < d.prepared[t].points.size(); ++i) {
-      residuals[t].push_back(d.prepared[t].points[i].measured - nominal_full.predictions[t][i]);
-    }
-  }
+  std::vector<std::vector<double>> residuals;
+  for (std::size_t t = 0; t < problem.size(); ++t) residuals.push_back(residuals_of(d.prepared[t], nominal_full.predictions[t]));
   d.localization = localize(d.prepared, residuals, nominal_device, options.alpha);
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full.predictions));
 
@@ -330,15 +322,18 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     std::iota(all.begin(), all.end(), 0);
     return group_test(d.prepared[t], r, all);
   };
+  const auto rms = [](const std::vector<double>& r) {
+    double ss = 0.0;
+    for (double v : r) ss += v * v;
+    return std::sqrt(ss / static_cast<double>(r.size()));
+  };
   for (std::size_t t = 0; t < problem.size(); ++t) {
     const LocalizationEntry e = trial_test(t, residuals[t]);
     const PreparedTrial& p = d.prepared[t];
     TrialGap gap{.experiment = p.trial->name, .kind = p.trial->kind, .unit = p.unit, .noise = p.noise,
                  .noise_source = p.noise_source, .p_value = e.p_value, .significant = e.p_value < trial_alpha,
                  .points = p.points.size()};
-    double ss = 0.0;
-    for (double r : residuals[t]) ss += r * r;
-    gap.rms_nominal = std::sqrt(ss / static_cast<double>(residuals[t].size()));
+    gap.rms_nominal = rms(residuals[t]);
     gap_significant = gap_significant || gap.significant;
     d.trials.push_back(gap);
   }
@@ -396,13 +391,8 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.corrected_predictions = current_full;
   d.heldout_corrected = problem.heldout_error(problem.heldout_sums(current_full));
   for (std::size_t t = 0; t < problem.size(); ++t) {
-    std::vector<double> r;
-    double ss = 0.0;
-    for (std::size_t i = 0; i < d.prepared[t].points.size(); ++i) {
-      r.push_back(d.prepared[t].points[i].measured - current_full[t][i]);
-      ss += r.back() * r.back();
-    }
-    d.trials[t].rms_corrected = std::sqrt(ss / static_cast<double>(r.size()));
+    const std::vector<double> r = residuals_of(d.prepared[t], current_full[t]);
+    d.trials[t].rms_corrected = rms(r);
     d.remaining_gap_significant = d.remaining_gap_significant || trial_test(t, r).p_value < trial_alpha;
   }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <stdexcept>
 
@@ -189,6 +190,12 @@ std::string cache_key(const Trial& trial, const ModelVariant& variant, double ho
 
 }  // namespace
 
+std::vector<double> residuals_of(const PreparedTrial& trial, const std::vector<double>& predicted) {
+  std::vector<double> residuals(predicted.size());
+  for (std::size_t i = 0; i < predicted.size(); ++i) residuals[i] = trial.points[i].measured - predicted[i];
+  return residuals;
+}
+
 std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, const ModelVariant& nominal) {
   std::vector<PreparedTrial> prepared;
   for (const Trial& trial : data.trials) {
@@ -200,10 +207,7 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
       case TrialKind::kTrajectory: p = prepare_trajectory(trial); break;
     }
     if (trial.kind != TrialKind::kTrajectory) {
-      const std::vector<double> predicted = engine.predict(p, nominal, false);
-      std::vector<double> residuals(predicted.size());
-      for (std::size_t i = 0; i < predicted.size(); ++i) residuals[i] = p.points[i].measured - predicted[i];
-      estimate_noise(p, residuals);
+      estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
     }
     prepared.push_back(std::move(p));
   }
@@ -228,44 +232,83 @@ void ReplayEngine::check_replayable(const Trial& trial, const ModelVariant& vari
   }
 }
 
-std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
-                                                                      double horizon) {
-  const std::string key = cache_key(trial, variant, horizon);
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::cached(
+    const std::string& key, const std::function<std::shared_ptr<const Simulated>()>& compute) {
   {
     std::lock_guard lock(mutex_);
     if (auto it = cache_.find(key); it != cache_.end()) return it->second;
   }
-  sim::ModelOptions options;
-  options.gravity = trial.gravity;
-  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(variant.device, options), plugins_, trial.name);
-  sim::WristSim wrist(model);
-  wrist.reset();
-  auto result = std::make_shared<Simulated>();
-  result->dt = model->opt.timestep;
-  const auto steps = static_cast<std::size_t>(std::ceil(horizon / result->dt)) + 1;
-  result->fe.reserve(steps);
-  result->ur.reserve(steps);
-  const auto& samples = trial.trajectory;
-  std::size_t next = 0;  // the next logged command not yet applied
-  for (std::size_t k = 0; k < steps; ++k) {
-    const double commanded_at = wrist.time() - variant.regulator_dead_time;
-    bool changed = false;
-    while (next < samples.size() && samples[next].t <= commanded_at + 1e-12) {
-      ++next;
-      changed = true;
-    }
-    if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
-    result->fe.push_back(wrist.angle(sim::WristJoint::kFlexionExtension));
-    result->ur.push_back(wrist.angle(sim::WristJoint::kUlnarRadial));
-    wrist.run(result->dt);
-    if (!std::isfinite(result->fe.back()) || !std::isfinite(result->ur.back())) {
-      throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time()));
-    }
-  }
+  std::shared_ptr<const Simulated> result = compute();  // outside the lock: replays run in parallel
   std::lock_guard lock(mutex_);
   if (cache_.size() >= 32) cache_.erase(cache_.begin());
   cache_.emplace(key, result);
   return result;
+}
+
+sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const Trial& trial) const {
+  sim::ModelOptions options;
+  options.gravity = trial.gravity;
+  return sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
+}
+
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
+                                                                      double horizon) {
+  return cached(cache_key(trial, variant, horizon), [&] {
+    const sim::Model model = load_model(variant.device, trial);
+    sim::WristSim wrist(model);
+    wrist.reset();
+    auto result = std::make_shared<Simulated>();
+    result->dt = model->opt.timestep;
+    const auto steps = static_cast<std::size_t>(std::ceil(horizon / result->dt)) + 1;
+    result->fe.reserve(steps);
+    result->ur.reserve(steps);
+    const auto& samples = trial.trajectory;
+    std::size_t next = 0;  // the next logged command not yet applied
+    for (std::size_t k = 0; k < steps; ++k) {
+      const double commanded_at = wrist.time() - variant.regulator_dead_time;
+      bool changed = false;
+      while (next < samples.size() && samples[next].t <= commanded_at + 1e-12) {
+        ++next;
+        changed = true;
+      }
+      if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
+      result->fe.push_back(wrist.angle(sim::WristJoint::kFlexionExtension));
+      result->ur.push_back(wrist.angle(sim::WristJoint::kUlnarRadial));
+      wrist.run(result->dt);
+      if (!std::isfinite(result->fe.back()) || !std::isfinite(result->ur.back())) {
+        throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time()));
+      }
+    }
+    return std::shared_ptr<const Simulated>(std::move(result));
+  });
+}
+
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial& trial,
+                                                                    const sim::DeviceDescription& device,
+                                                                    const std::vector<std::pair<int, double>>& conditions) {
+  return cached(fmt::format("rom|{}|{}|{}", trial.name, trial.file, sim::device_to_json(device)), [&] {
+    // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
+    // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
+    const sim::Model model = load_model(device, trial);
+    sim::WristSim wrist(model);
+    auto result = std::make_shared<Simulated>();
+    for (const auto& [muscle_index, pressure] : conditions) {
+      const auto muscle = static_cast<sim::MuscleIndex>(muscle_index);
+      wrist.reset();
+      std::array<double, 4> command{};
+      command[static_cast<std::size_t>(muscle)] = pa_to_kpa(pressure);
+      wrist.command_pressures_kpa(command);
+      // Settled once the joint has been still (below 0.1 deg/s) for half a second after the first second, or
+      // after kRomSettle.
+      double still_since = 0.0;
+      while (wrist.time() < kRomSettle - 1e-9 && (wrist.time() < 1.0 || wrist.time() - still_since < 0.5)) {
+        wrist.run(0.05);
+        if (std::abs(wrist.velocity(sim::joint_of(muscle))) > 1.7e-3) still_since = wrist.time();
+      }
+      result->fe.push_back(rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle))));
+    }
+    return std::shared_ptr<const Simulated>(std::move(result));
+  });
 }
 
 std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const ModelVariant& variant,
@@ -284,44 +327,14 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
       break;
     }
     case TrialKind::kRangeOfMotion: {
-      std::map<std::pair<int, double>, double> settled;  // the same muscle and pressure settle alike
+      // The same muscle and pressure settle alike: one simulation per condition, in the order of the map.
+      std::map<std::pair<int, double>, double> settled;
       for (const RomPoint& r : trial.rom) settled.try_emplace({r.muscle, r.pressure}, 0.0);
-      const std::string key = fmt::format("rom|{}|{}", sim::device_to_json(device), trial.gravity);
-      std::shared_ptr<const Simulated> cached;
-      {
-        std::lock_guard lock(mutex_);
-        if (auto it = cache_.find(key); it != cache_.end()) cached = it->second;
-      }
-      if (!cached) {
-        // Each muscle alone from the neutral wrist at rest, settled for kRomSettle as the range-of-motion experiment
-        // does; the analytic statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
-        sim::ModelOptions options;
-        options.gravity = trial.gravity;
-        const sim::Model model = sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
-        sim::WristSim wrist(model);
-        auto result = std::make_shared<Simulated>();
-        for (auto& [condition, angle] : settled) {
-          const auto muscle = static_cast<sim::MuscleIndex>(condition.first);
-          wrist.reset();
-          std::array<double, 4> command{};
-          command[static_cast<std::size_t>(muscle)] = pa_to_kpa(condition.second);
-          wrist.command_pressures_kpa(command);
-          // Settled once the joint has been still (below 0.1 deg/s) for half a second after the first second, or
-          // after kRomSettle.
-          double still_since = 0.0;
-          while (wrist.time() < kRomSettle - 1e-9 && (wrist.time() < 1.0 || wrist.time() - still_since < 0.5)) {
-            wrist.run(0.05);
-            if (std::abs(wrist.velocity(sim::joint_of(muscle))) > 1.7e-3) still_since = wrist.time();
-          }
-          result->fe.push_back(rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle))));
-        }
-        std::lock_guard lock(mutex_);
-        if (cache_.size() >= 32) cache_.erase(cache_.begin());
-        cache_.emplace(key, result);
-        cached = result;
-      }
+      std::vector<std::pair<int, double>> conditions;
+      for (const auto& [condition, angle] : settled) conditions.push_back(condition);
+      const auto simulated = settle(trial, device, conditions);
       std::size_t k = 0;
-      for (auto& [condition, angle] : settled) angle = cached->fe[k++];
+      for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
       for (std::size_t i = 0; i < trial.rom.size(); ++i) out[i] = settled.at({trial.rom[i].muscle, trial.rom[i].pressure});
       break;
     }

@@ -18,6 +18,7 @@
 // held-out split and the bootstrap resample whole units), where it lies (angle, pressure, muscle, motion), and each
 // trial's repeat-to-repeat noise.
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,6 +27,7 @@
 
 #include "diagnosis/effects.h"
 #include "diagnosis/real_data.h"
+#include "sim/model.h"
 #include "sim/plugins.h"
 
 namespace softwrist::diagnosis {
@@ -55,6 +57,9 @@ struct PreparedTrial {
   double training_end_s = 0.0;  // trajectories: the training part ends here
 };
 
+// Measured minus predicted, for each point of `trial`.
+std::vector<double> residuals_of(const PreparedTrial& trial, const std::vector<double>& predicted);
+
 // Groups, units, the split and the noise of each trial (the noise of sweeps from the nominal model's residuals, so
 // that the held angle's jitter within a group does not count as noise).
 class ReplayEngine;
@@ -76,7 +81,15 @@ class ReplayEngine {
     double dt = 0.0;
     std::vector<double> fe, ur;  // [rad] true joint angles every dt from t = 0 (range of motion: settled angles)
   };
+  // The cached result under `key`, or compute() cached (at most 32 entries).
+  std::shared_ptr<const Simulated> cached(const std::string& key,
+                                          const std::function<std::shared_ptr<const Simulated>()>& compute);
+  sim::Model load_model(const sim::DeviceDescription& device, const Trial& trial) const;
+  // A trajectory's logged commands replayed up to `horizon` [s].
   std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon);
+  // The settled angle [deg, own direction] of each (muscle, pressure [Pa]) alone, in `fe`.
+  std::shared_ptr<const Simulated> settle(const Trial& trial, const sim::DeviceDescription& device,
+                                          const std::vector<std::pair<int, double>>& conditions);
   sim::PluginSet plugins_;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<const Simulated>> cache_;
