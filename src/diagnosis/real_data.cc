@@ -113,7 +113,6 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
   std::array<int, 4> c_cmd{};
   for (std::size_t m = 0; m < 4; ++m) c_cmd[m] = t.column(fmt::format("cmd_{}_kpa", control::kMuscleNames[m]));
   const int c_case = t.find_column("case");
-  if (log.header.config.contains("hand_supported") && log.header.config["hand_supported"] == true) base.gravity = 0.0;
   base.kind = TrialKind::kTrajectory;
   std::map<std::string, Trial> by_case;  // rows of several cases may interleave in a merged log
   std::vector<std::string> order;
@@ -150,6 +149,8 @@ std::vector<Trial> read_trials(const fs::path& sidecar, const std::string& name)
   const experiments::TrialLog log = experiments::read_log(sidecar.parent_path(), sidecar.stem().string());
   if (log.table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", log.table.source()));
   Trial base{.name = name, .file = log.table.source()};
+  // A table carried the hand (tracking configs, imports with --hand-supported): the replay has no gravity.
+  if (log.header.config.contains("hand_supported") && log.header.config["hand_supported"] == true) base.gravity = 0.0;
   const std::string& kind = log.header.kind;
   if (kind == "torque_validation" || kind == "torque_sweep") return sweep_trials(log, base);
   if (kind == "range_of_motion") return rom_trials(log, base);

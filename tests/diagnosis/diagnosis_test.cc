@@ -226,6 +226,11 @@ TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
   EXPECT_DOUBLE_EQ(trials[0].sweep[1].pressure, 34e3);
   EXPECT_EQ(trials[0].sweep[1].repetition, 1);
   EXPECT_THROW(import_csv(dir_ / "ok.csv", dir_ / "out", {.kind = "torque-sweep"}), std::runtime_error);  // occupied
+
+  // --hand-supported reaches the replay of any kind, here a range of motion.
+  import_csv(write("rom.csv", "muscle,pressure_kpa,limit_deg\nflexor,137,30\n"), dir_ / "rom",
+             {.kind = "rom", .hand_supported = true});
+  EXPECT_EQ(read_trials(dir_ / "rom/trials.json", "rom").at(0).gravity, 0.0);
 }
 
 }  // namespace
