@@ -290,7 +290,11 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     }
   }
   d.data.trials = std::move(replayable);
-  if (d.data.trials.empty()) throw std::runtime_error("no trial left to diagnose (see the problems listed above)");
+  const auto nothing_left = [&] {
+    return std::runtime_error(d.problems.empty() ? std::string("no trial logs found to diagnose (softwrist.log/1 sidecars)")
+                                                 : "no trial left to diagnose (see the problems listed above)");
+  };
+  if (d.data.trials.empty()) throw nothing_left();
   d.prepared = prepare(d.data, engine, nominal);
   // A trial whose noise cannot be estimated (constant data) cannot be weighed against the others.
   for (auto it = d.prepared.begin(); it != d.prepared.end();) {
@@ -302,7 +306,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
       ++it;
     }
   }
-  if (d.prepared.empty()) throw std::runtime_error("no trial left to diagnose (see the problems listed above)");
+  if (d.prepared.empty()) throw nothing_left();
   Problem problem(d.prepared, engine);
 
   // 1-2. Replay with the nominal model; localise.
