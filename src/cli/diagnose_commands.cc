@@ -85,6 +85,7 @@ struct SynthesizeOptions {
   std::string imu_offset_deg;  // fe,ur
   double trajectory_s = 24.0;
   int repetitions = 3;
+  bool no_measured_pressures = false;
   std::uint64_t seed = 1;
 };
 
@@ -127,7 +128,10 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
                             : physics::FpamParameters::Table(rows, d.fpam.fabric());
   sim::parse_device(sim::device_to_json(d), "the synthesized device");  // validates the edited description
   diagnosis::write_synthetic_data(
-      real, {.repetitions = o.repetitions, .trajectory_s = o.trajectory_s, .seed = o.seed}, o.out);
+      real,
+      {.measured_pressures = !o.no_measured_pressures, .repetitions = o.repetitions, .trajectory_s = o.trajectory_s,
+       .seed = o.seed},
+      o.out);
   std::ofstream(fs::path(o.out) / "real_device.json") << sim::device_to_json(d);
   out << fmt::format("{}: torque_sweep, range_of_motion, tensile, trajectory (the device as simulated: "
                      "real_device.json)\n", o.out);
@@ -239,6 +243,8 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
   synth->add_option("--repetitions", s->repetitions, "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
   synth->add_option("--seed", s->seed, "Noise seed (default 1)");
+  synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
+                  "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
   synth->callback([s, &out] { run_synthesize(*s, out); });
 }
 

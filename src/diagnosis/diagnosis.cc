@@ -300,7 +300,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   for (auto it = d.prepared.begin(); it != d.prepared.end();) {
     if (!(it->noise > 0.0)) {
       d.problems.push_back({it->trial->file, fmt::format("{}: its repeat-to-repeat noise is zero; it cannot be weighed",
-                                                         it->trial->name)});
+                                                         it->name)});
       it = d.prepared.erase(it);
     } else {
       ++it;
@@ -334,7 +334,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   for (std::size_t t = 0; t < problem.size(); ++t) {
     const LocalizationEntry e = trial_test(t, residuals[t]);
     const PreparedTrial& p = d.prepared[t];
-    TrialGap gap{.experiment = p.trial->name, .kind = p.trial->kind, .unit = p.unit, .noise = p.noise,
+    TrialGap gap{.experiment = p.name, .kind = p.trial->kind, .unit = p.unit, .noise = p.noise,
                  .noise_source = p.noise_source, .p_value = e.p_value, .significant = e.p_value < trial_alpha,
                  .points = p.points.size()};
     gap.rms_nominal = rms(residuals[t]);

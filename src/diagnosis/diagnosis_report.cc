@@ -24,7 +24,7 @@ void write_curves(const Diagnosis& d, const fs::path& path) {
     const PreparedTrial& p = d.prepared[t];
     for (std::size_t i = 0; i < p.points.size(); ++i) {
       const Point& point = p.points[i];
-      csv.write_row({p.trial->name, to_string(p.trial->kind), p.unit, point.heldout ? "1" : "0",
+      csv.write_row({p.name, to_string(p.trial->kind), p.unit, point.heldout ? "1" : "0",
                      number_or_empty(point.angle_deg), number_or_empty(point.pressure_kpa),
                      number_or_empty(point.contraction), std::to_string(point.channel), std::to_string(point.motion),
                      number_or_empty(point.t_s), format_number(point.measured),

@@ -42,7 +42,7 @@ LocalizationEntry group_test(const PreparedTrial& trial, const std::vector<doubl
     weighted += g.first * g.first / g.second;
     n += g.second;
   }
-  LocalizationEntry e{.experiment = trial.trial->name, .unit = trial.unit, .count = n};
+  LocalizationEntry e{.experiment = trial.name, .unit = trial.unit, .count = n};
   const double k = static_cast<double>(groups.size());
   if (n == 0 || trial.noise <= 0.0) return e;
   e.residual = std::sqrt(weighted / n);
@@ -65,7 +65,10 @@ std::map<Key, Members> split(const PreparedTrial& trial, const std::function<std
   return parts;
 }
 
-const char* channel_name(int channel) { return channel == 0 ? "flexion/extension" : "ulnar/radial"; }
+std::string channel_name(int channel) {
+  if (channel >= 2) return fmt::format("{} pressure", sim::kMuscleNames[static_cast<std::size_t>(channel - 2)]);
+  return channel == 0 ? "flexion/extension" : "ulnar/radial";
+}
 
 // The residual's frequency bands of one trajectory channel.
 void add_bands(const PreparedTrial& trial, const std::vector<double>& residuals, int channel,
@@ -100,7 +103,7 @@ void add_bands(const PreparedTrial& trial, const std::vector<double>& residuals,
     if (bins == 0) continue;
     const double sigma2 = trial.noise * trial.noise;
     const double nn = static_cast<double>(n);
-    LocalizationEntry e{.experiment = trial.trial->name,
+    LocalizationEntry e{.experiment = trial.name,
                         .where = fmt::format("{} {}", channel_name(channel), band.name),
                         .residual = std::sqrt(2.0 * power) / nn,
                         .noise = std::sqrt(sigma2 * 2.0 * bins / nn),
@@ -189,6 +192,19 @@ std::vector<LocalizationEntry> localize(const std::vector<PreparedTrial>& trials
         }
         break;
       case TrialKind::kTrajectory:
+        if (trial.pressures) {  // each muscle's regulator: filling, venting, holding, and the frequency bands
+          for (int channel = 2; channel < 6; ++channel) {
+            for (const auto& [motion, members] : split<int>(trial, [&](const Point& p) -> std::optional<int> {
+                   if (p.channel != channel) return std::nullopt;
+                   return p.motion;
+                 })) {
+              add(trial, r, members,
+                  fmt::format("{} {}", channel_name(channel), motion == 0 ? "steady" : (motion > 0 ? "filling" : "venting")));
+            }
+            add_bands(trial, r, channel, out);
+          }
+          break;
+        }
         for (int channel = 0; channel < 2; ++channel) {
           const auto in_channel = [channel](const Point& p) { return p.channel == channel; };
           for (const auto& [bin, members] : split<long>(trial, [&](const Point& p) -> std::optional<long> {

@@ -54,6 +54,13 @@ double pressure_cell(const io::CsvTable& table, std::size_t row, int column) {
   return kpa_to_pa(kpa);
 }
 
+// A measured pressure cell [kPa]: a sensor's zero may read a little below zero.
+double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, int column) {
+  const double kpa = table.number(row, column);
+  if (kpa < -20.0 || kpa > 1000.0) fail_at(table, row, fmt::format("{}: {} kPa is outside -20..1000 kPa", table.header()[column], kpa));
+  return kpa;
+}
+
 std::vector<Trial> sweep_trials(const experiments::TrialLog& log, Trial base) {
   const io::CsvTable& t = log.table;
   const int c_angle = t.column("angle_deg"), c_pressure = t.column("pressure_kpa"), c_torque = t.column("torque_nm");
@@ -113,6 +120,17 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
   std::array<int, 4> c_cmd{};
   for (std::size_t m = 0; m < 4; ++m) c_cmd[m] = t.column(fmt::format("cmd_{}_kpa", control::kMuscleNames[m]));
   const int c_case = t.find_column("case");
+  // Measured pressures are optional, but all four or none: a replay compares every muscle's regulator.
+  std::array<int, 4> c_measured{};
+  int measured_columns = 0;
+  for (std::size_t m = 0; m < 4; ++m) {
+    c_measured[m] = t.find_column(fmt::format("p_{}_kpa", control::kMuscleNames[m]));
+    measured_columns += c_measured[m] >= 0 ? 1 : 0;
+  }
+  if (measured_columns != 0 && measured_columns != 4) {
+    throw std::runtime_error(fmt::format("{}: has {} of the four measured-pressure columns p_<muscle>_kpa; give all "
+                                         "four (flexor, extensor, ulnar, radial) or none", t.source(), measured_columns));
+  }
   base.kind = TrialKind::kTrajectory;
   std::map<std::string, Trial> by_case;  // rows of several cases may interleave in a merged log
   std::vector<std::string> order;
@@ -125,6 +143,10 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
     }
     TrajectorySample s{.t = t.number(r, c_t), .fe = deg_to_rad(t.number(r, c_fe)), .ur = deg_to_rad(t.number(r, c_ur))};
     for (std::size_t m = 0; m < 4; ++m) s.command_kpa[m] = units::pa_to_kpa(pressure_cell(t, r, c_cmd[m]));
+    if (measured_columns == 4) {
+      s.measured_kpa.emplace();
+      for (std::size_t m = 0; m < 4; ++m) (*s.measured_kpa)[m] = measured_pressure_cell_kpa(t, r, c_measured[m]);
+    }
     auto& samples = it->second.trajectory;
     if (!samples.empty() && !(s.t > samples.back().t)) {
       fail_at(t, r, fmt::format("t_s: {} does not follow {} (time must increase within a case)", s.t, samples.back().t));

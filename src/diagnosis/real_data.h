@@ -5,6 +5,7 @@
 // reported with its reason and the rest of the data is still used.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,8 @@ struct TrajectorySample {
   double t = 0.0;                       // [s] from the start of the run
   control::Pressures command_kpa{};     // flexor, extensor, ulnar, radial
   double fe = 0.0, ur = 0.0;            // [rad] measured wrist angles
+  // What the regulators' monitor outputs read (`p_<muscle>_kpa`: hardware logs, imports that have them).
+  std::optional<control::Pressures> measured_kpa;
 };
 
 struct Trial {

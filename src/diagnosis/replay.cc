@@ -23,8 +23,12 @@ using units::rad_to_deg;
 
 constexpr double kTrajectoryGroup = 1.0;  // [s] a repeat group of a trajectory: samples whose systematic part is alike
 constexpr double kTrajectoryUnit = 4.0;   // [s] a bootstrap unit
-constexpr double kClusterGap = 2.5;
-constexpr double kRomSettle = 6.0;        // [s] the range-of-motion experiment's settling time       // [deg] held angles further apart than this are different set angles
+constexpr double kClusterGap = 2.5;       // [deg] held angles further apart than this are different set angles
+constexpr double kRomSettle = 6.0;        // [s] the range-of-motion experiment's settling time
+// [kPa] the resolution of a logged measured pressure (the bridge protocol's 0.1 kPa, docs/bridge-protocol.md): its
+// quantisation noise, resolution / sqrt(12), is the least noise a pressure trial is weighed with, so a smooth,
+// noise-free log does not make every rounding error significant.
+constexpr double kPressureResolutionKpa = 0.1;
 
 // Cluster index of each value: sorted, a new cluster where the gap exceeds `gap`.
 std::vector<int> clusters(const std::vector<double>& values, double gap) {
@@ -89,7 +93,7 @@ double second_difference_noise(const std::vector<double>& y) {
 }
 
 PreparedTrial prepare_sweep(const Trial& trial) {
-  PreparedTrial p{.trial = &trial, .unit = "N m"};
+  PreparedTrial p{.trial = &trial, .name = trial.name, .unit = "N m"};
   std::map<int, std::vector<std::size_t>> by_muscle;
   for (std::size_t i = 0; i < trial.sweep.size(); ++i) by_muscle[trial.sweep[i].muscle].push_back(i);
   p.points.resize(trial.sweep.size());
@@ -115,7 +119,7 @@ PreparedTrial prepare_sweep(const Trial& trial) {
 }
 
 PreparedTrial prepare_rom(const Trial& trial) {
-  PreparedTrial p{.trial = &trial, .unit = "deg"};
+  PreparedTrial p{.trial = &trial, .name = trial.name, .unit = "deg"};
   int max_repetition = 0;
   for (const auto& r : trial.rom) max_repetition = std::max(max_repetition, r.repetition);
   Ids<std::pair<int, long>> groups;
@@ -133,7 +137,7 @@ PreparedTrial prepare_rom(const Trial& trial) {
 }
 
 PreparedTrial prepare_tensile(const Trial& trial) {
-  PreparedTrial p{.trial = &trial, .unit = "N"};
+  PreparedTrial p{.trial = &trial, .name = trial.name, .unit = "N"};
   std::vector<double> pressures;
   for (const auto& t : trial.tensile) pressures.push_back(pa_to_kpa(t.pressure));
   const std::vector<int> level = clusters(pressures, 1.0);
@@ -153,25 +157,41 @@ PreparedTrial prepare_tensile(const Trial& trial) {
   return p;
 }
 
-PreparedTrial prepare_trajectory(const Trial& trial) {
-  PreparedTrial p{.trial = &trial, .unit = "deg"};
+// A trajectory's angles (channels 0, 1) or, with `pressures`, its measured pressures (channel 2 + muscle).
+PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
+  PreparedTrial p{.trial = &trial, .name = pressures ? trial.name + " pressures" : trial.name, .pressures = pressures,
+                  .unit = pressures ? "kPa" : "deg"};
   const auto& s = trial.trajectory;
   const double t0 = s.front().t, t1 = s.back().t;
   p.training_end_s = t0 + 0.5 * (t1 - t0);  // train on the first half, hold out the second
-  std::array<std::vector<double>, 2> y;
+  const int channels = pressures ? 4 : 2;
+  std::vector<std::vector<double>> y(static_cast<std::size_t>(channels));
   for (const auto& sample : s) {
-    y[0].push_back(rad_to_deg(sample.fe));
-    y[1].push_back(rad_to_deg(sample.ur));
+    if (pressures) {
+      for (std::size_t m = 0; m < 4; ++m) y[m].push_back((*sample.measured_kpa)[m]);
+    } else {
+      y[0].push_back(rad_to_deg(sample.fe));
+      y[1].push_back(rad_to_deg(sample.ur));
+    }
   }
   double noise2 = 0.0;
-  for (int c = 0; c < 2; ++c) {
-    noise2 += 0.5 * std::pow(second_difference_noise(y[c]), 2);
+  for (int c = 0; c < channels; ++c) {
+    const auto& yc = y[static_cast<std::size_t>(c)];
+    noise2 += std::pow(second_difference_noise(yc), 2) / channels;
     for (std::size_t i = 0; i < s.size(); ++i) {
       const std::size_t a = i >= 3 ? i - 3 : 0, b = std::min(s.size() - 1, i + 3);
-      const double rate = (y[c][b] - y[c][a]) / std::max(1e-9, s[b].t - s[a].t);
-      Point point{.measured = y[c][i], .angle_deg = y[c][i], .channel = c, .t_s = s[i].t};
-      point.motion = rate > 2.0 ? 1 : (rate < -2.0 ? -1 : 0);
-      point.group = c * 1000000 + static_cast<int>((s[i].t - t0) / kTrajectoryGroup);
+      const double rate = (yc[b] - yc[a]) / std::max(1e-9, s[b].t - s[a].t);
+      const int channel = pressures ? 2 + c : c;
+      Point point{.measured = yc[i], .channel = channel, .t_s = s[i].t};
+      if (pressures) {
+        point.pressure_kpa = yc[i];
+        point.muscle = c;
+        point.motion = rate > 5.0 ? 1 : (rate < -5.0 ? -1 : 0);  // [kPa/s] filling, venting
+      } else {
+        point.angle_deg = yc[i];
+        point.motion = rate > 2.0 ? 1 : (rate < -2.0 ? -1 : 0);  // [deg/s]
+      }
+      point.group = channel * 1000000 + static_cast<int>((s[i].t - t0) / kTrajectoryGroup);
       point.unit = static_cast<int>((s[i].t - t0) / kTrajectoryUnit);
       point.heldout = s[i].t >= p.training_end_s;
       p.points.push_back(point);
@@ -179,7 +199,13 @@ PreparedTrial prepare_trajectory(const Trial& trial) {
   }
   p.noise = std::sqrt(noise2);
   p.noise_dof = static_cast<int>(p.points.size());
-  p.noise_source = "second differences of the measured angles (white IMU noise)";
+  p.noise_source = pressures ? "second differences of the measured pressures (white sensor noise)"
+                             : "second differences of the measured angles (white IMU noise)";
+  if (pressures && p.noise < kPressureResolutionKpa / std::sqrt(12.0)) {
+    p.noise = kPressureResolutionKpa / std::sqrt(12.0);
+    p.noise_source = fmt::format("the logged pressures' {} kPa resolution (their second differences are smaller)",
+                                 kPressureResolutionKpa);
+  }
   return p;
 }
 
@@ -204,12 +230,15 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
       case TrialKind::kTorqueSweep: p = prepare_sweep(trial); break;
       case TrialKind::kRangeOfMotion: p = prepare_rom(trial); break;
       case TrialKind::kTensile: p = prepare_tensile(trial); break;
-      case TrialKind::kTrajectory: p = prepare_trajectory(trial); break;
+      case TrialKind::kTrajectory: p = prepare_trajectory(trial, false); break;
     }
     if (trial.kind != TrialKind::kTrajectory) {
       estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
     }
     prepared.push_back(std::move(p));
+    if (trial.kind == TrialKind::kTrajectory && trial.trajectory.front().measured_kpa) {
+      prepared.push_back(prepare_trajectory(trial, true));
+    }
   }
   return prepared;
 }
@@ -262,6 +291,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
     const auto steps = static_cast<std::size_t>(std::ceil(horizon / result->dt)) + 1;
     result->fe.reserve(steps);
     result->ur.reserve(steps);
+    for (auto& p : result->pressure_kpa) p.reserve(steps);
     const auto& samples = trial.trajectory;
     std::size_t next = 0;  // the next logged command not yet applied
     for (std::size_t k = 0; k < steps; ++k) {
@@ -274,6 +304,9 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
       if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
       result->fe.push_back(wrist.angle(sim::WristJoint::kFlexionExtension));
       result->ur.push_back(wrist.angle(sim::WristJoint::kUlnarRadial));
+      for (std::size_t m = 0; m < 4; ++m) {
+        result->pressure_kpa[m].push_back(wrist.regulated_pressure_kpa(static_cast<sim::MuscleIndex>(m)));
+      }
       wrist.run(result->dt);
       if (!std::isfinite(result->fe.back()) || !std::isfinite(result->ur.back())) {
         throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time()));
@@ -354,6 +387,11 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
         const Point& point = prepared.points[i];
         if (training_only && point.heldout) continue;
         const double t = trial.trajectory[i % n].t;
+        if (prepared.pressures) {  // the regulator's monitor output, read with the row
+          const auto& series = simulated->pressure_kpa[static_cast<std::size_t>(point.channel - 2)];
+          out[i] = series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))];
+          continue;
+        }
         // The reading the IMUs last sampled (every 10 ms), `latency` late.
         const double sampled = std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period);
         const auto& series = point.channel == 0 ? simulated->fe : simulated->ur;

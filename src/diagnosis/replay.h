@@ -12,12 +12,14 @@
 //    differ from the simulation by up to a degree, more than the motion capture's noise.
 //  - trajectories are dynamic: the MuJoCo model with the fPAM plugin, generated from the variant's device, runs the
 //    logged commands open loop (delayed by the regulator's dead time) from the neutral wrist at rest; the IMU pair
-//    is sampled every 10 ms, late by the variant's latency and offset by its bias.
+//    is sampled every 10 ms, late by the variant's latency and offset by its bias. Measured pressures, where the log
+//    has them, are compared with the simulated regulators' pressures at the row's time.
 //
 // Prepared once per data set: each measurement's repeat group (same condition), its split unit (the training /
 // held-out split and the bootstrap resample whole units), where it lies (angle, pressure, muscle, motion), and each
 // trial's repeat-to-repeat noise.
 
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -42,13 +44,17 @@ struct Point {
   double pressure_kpa = NAN;
   double contraction = NAN;
   int muscle = -1;
-  int channel = -1;           // trajectories: 0 flexion/extension, 1 ulnar/radial
+  int channel = -1;           // trajectories: 0 flexion/extension, 1 ulnar/radial; 2 + muscle: its measured pressure
   int motion = 0;             // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
   double t_s = NAN;
 };
 
 struct PreparedTrial {
   const Trial* trial = nullptr;
+  std::string name;          // the trial's name; "<name> pressures" for a trajectory's measured pressures
+  // A trajectory with measured pressures is prepared twice: its angles, and (with this set) its pressures, each with
+  // its own unit and noise. The pressures tell a regulator's lag from an IMU's latency, which delay the angles alike.
+  bool pressures = false;
   std::vector<Point> points;
   std::string unit;          // of measured and residuals
   double noise = 0.0;        // repeat-to-repeat standard deviation of one measurement, in `unit`
@@ -80,6 +86,7 @@ class ReplayEngine {
   struct Simulated {
     double dt = 0.0;
     std::vector<double> fe, ur;  // [rad] true joint angles every dt from t = 0 (range of motion: settled angles)
+    std::array<std::vector<double>, 4> pressure_kpa;  // the regulated pressures every dt (trajectories)
   };
   // The cached result under `key`, or compute() cached (at most 32 entries).
   std::shared_ptr<const Simulated> cached(const std::string& key,

@@ -116,6 +116,9 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
   for (const char* m : sim::kMuscleNames) columns.push_back({std::string("cmd_") + m + "_kpa", "kPa", ""});
   columns.push_back({"measured_fe_deg", "deg", ""});
   columns.push_back({"measured_ur_deg", "deg", ""});
+  if (plan.measured_pressures) {
+    for (const char* m : sim::kMuscleNames) columns.push_back({std::string("p_") + m + "_kpa", "kPa", ""});
+  }
   auto log = open_log(out / "trajectory", "trajectory", columns, {{"hand_supported", true}});
   const sim::Model model = load(real, plugins, 0.0);
   sim::WristSim wrist(model);
@@ -144,6 +147,12 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
       for (double p : cmd) row.push_back(format_number(p));
       row.push_back(format_number(rad_to_deg(angles[0]) + real.imu_offset_fe_deg + plan.noise.imu_deg * normal(rng)));
       row.push_back(format_number(rad_to_deg(angles[1]) + real.imu_offset_ur_deg + plan.noise.imu_deg * normal(rng)));
+      if (plan.measured_pressures) {
+        for (std::size_t m = 0; m < 4; ++m) {
+          const double p = wrist.regulated_pressure_kpa(static_cast<sim::MuscleIndex>(m));
+          row.push_back(format_number(p + plan.noise.pressure_kpa * normal(rng)));
+        }
+      }
       log.write_row(row);
       next_row += loop;
     }

@@ -30,10 +30,14 @@ struct SyntheticNoise {
   double rom_deg = 0.5;          // motion capture
   double force_n = 0.5;          // tensile rig load cell
   double imu_deg = 0.2;          // IMU pair (as the tracking experiments)
+  // Regulator monitor output. Assumed: the QB3's stated accuracy is +-0.5 % of its 137 kPa span (0.7 kPa); taken
+  // as a bias-free 0.3 kPa standard deviation.
+  double pressure_kpa = 0.3;
 };
 
 struct SyntheticPlan {
   bool torque_sweep = true, range_of_motion = true, tensile = true, trajectory = true;
+  bool measured_pressures = true;  // the trajectory logs p_<muscle>_kpa as the bridge does
   int repetitions = 3;             // sweeps, range of motion; tensile cycles
   double trajectory_s = 24.0;      // one 24 s period of antagonistic pressure sinusoids on both axes
   SyntheticNoise noise;

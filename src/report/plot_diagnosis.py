@@ -12,6 +12,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 
+CHANNELS = ["flexion/extension", "ulnar/radial", "flexor pressure", "extensor pressure", "ulnar pressure",
+            "radial pressure"]
+
+
 def number(text):
     return float(text) if text != "" else float("nan")
 
@@ -22,17 +26,19 @@ def main(out):
         for row in csv.DictReader(f):
             trials[(row["experiment"], row["kind"], row["unit"])].append(row)
     for index, ((name, kind, unit), rows) in enumerate(trials.items()):
-        fig, axes = plt.subplots(1, 2 if kind == "trajectory" else 1, figsize=(10 if kind == "trajectory" else 6, 4),
+        # Trajectories: one panel per channel (two angles, or four measured pressures).
+        channels = sorted({int(r["channel"]) for r in rows}) if kind == "trajectory" else [None]
+        fig, axes = plt.subplots(1, len(channels), figsize=(5 * len(channels) if kind == "trajectory" else 6, 4),
                                  squeeze=False)
         if kind == "trajectory":
-            for channel, ax in enumerate(axes[0]):
+            for channel, ax in zip(channels, axes[0]):
                 sel = [r for r in rows if r["channel"] == str(channel)]
                 t = [number(r["t_s"]) for r in sel]
                 ax.plot(t, [number(r["measured"]) for r in sel], ".", ms=1, color="0.5", label="real")
                 ax.plot(t, [number(r["nominal"]) for r in sel], "--", label="nominal")
                 ax.plot(t, [number(r["corrected"]) for r in sel], "-", label="corrected")
                 ax.set_xlabel("t [s]")
-                ax.set_ylabel(("flexion/extension" if channel == 0 else "ulnar/radial") + " [deg]")
+                ax.set_ylabel(CHANNELS[channel] + f" [{unit}]")
         else:
             ax = axes[0][0]
             x_key = {"torque_sweep": "angle_deg", "tensile": "contraction", "range_of_motion": "pressure_kpa"}[kind]

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "diagnosis/csv_import.h"
@@ -123,6 +124,34 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
   }
 }
 
+// A regulator's dead time and an IMU's latency delay the replayed angles alike; the measured pressures
+// (p_<muscle>_kpa, as the bridge logs them) show which one it is: only the regulator delays the pressures.
+TEST_F(DiagnosisTest, MeasuredPressuresTellRegulatorDeadTimeFromImuLatency) {
+  const SyntheticPlan trajectory_only{.torque_sweep = false, .range_of_motion = false, .tensile = false,
+                                      .trajectory_s = 12.0};
+  const std::vector<EffectId> both = {EffectId::kRegulatorLag, EffectId::kImuBias};
+  {
+    const auto d = run({.device = paper_device(), .regulator_dead_time = 0.08}, paper_device(), both, trajectory_only);
+    ASSERT_EQ(d.verdict, "regulator_lag") << d.reason;
+    EXPECT_NEAR(param(d.combination.front(), "dead_time_s"), 0.08, 0.01);
+    EXPECT_LT(fit_of(d, EffectId::kImuBias).shrink_fraction, fit_of(d, EffectId::kRegulatorLag).shrink_fraction - 0.1);
+    bool pressure_gap = false;
+    for (const auto& t : d.trials) pressure_gap = pressure_gap || (t.unit == "kPa" && t.significant);
+    EXPECT_TRUE(pressure_gap);
+  }
+  {
+    fs::remove_all(dir_ / "real");
+    const auto d = run({.device = paper_device(), .imu_latency = 0.08}, paper_device(), both, trajectory_only);
+    ASSERT_EQ(d.verdict, "imu_bias") << d.reason;
+    EXPECT_NEAR(param(d.combination.front(), "latency_s"), 0.08, 0.01);
+    for (const auto& t : d.trials) {
+      if (t.unit == "kPa") {
+        EXPECT_FALSE(t.significant) << t.experiment << " p = " << t.p_value;
+      }
+    }
+  }
+}
+
 // A smaller wrist only changes the torque while the flexor wraps (Eqn. tau2: moment arm r_w); the localisation
 // must put the gap there and not in the straight-line regime.
 TEST_F(DiagnosisTest, WristRadiusChangeIsLocalisedInTheWrappingRange) {
@@ -226,6 +255,29 @@ TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
   EXPECT_DOUBLE_EQ(trials[0].sweep[1].pressure, 34e3);
   EXPECT_EQ(trials[0].sweep[1].repetition, 1);
   EXPECT_THROW(import_csv(dir_ / "ok.csv", dir_ / "out", {.kind = "torque-sweep"}), std::runtime_error);  // occupied
+
+  // Measured pressures come with a trajectory as all four columns or none.
+  const std::string trajectory_header =
+      "t_s,cmd_flexor_kpa,cmd_extensor_kpa,cmd_ulnar_kpa,cmd_radial_kpa,angle_fe_deg,angle_ur_deg";
+  std::string rows;
+  for (int i = 0; i < 10; ++i) rows += fmt::format("{},10,0,0,0,1,0,9.5,0.1,-0.2,0\n", 0.014 * i);
+  import_csv(write("traj.csv", trajectory_header + ",p_flexor_kpa,p_extensor_kpa,p_ulnar_kpa,p_radial_kpa\n" + rows),
+             dir_ / "traj", {.kind = "trajectory"});
+  const auto trajectory = read_trials(dir_ / "traj/trials.json", "traj").at(0).trajectory;
+  ASSERT_TRUE(trajectory.at(3).measured_kpa.has_value());
+  EXPECT_DOUBLE_EQ((*trajectory[3].measured_kpa)[0], 9.5);
+  EXPECT_DOUBLE_EQ((*trajectory[3].measured_kpa)[2], -0.2);  // a sensor's zero may read below zero
+  std::string two_rows;
+  for (int i = 0; i < 10; ++i) two_rows += fmt::format("{},10,0,0,0,1,0,9.5,0.1\n", 0.014 * i);
+  std::string partial = "no error";
+  try {
+    import_csv(write("partial.csv", trajectory_header + ",p_flexor_kpa,p_ulnar_kpa\n" + two_rows), dir_ / "partial",
+               {.kind = "trajectory"});
+  } catch (const std::runtime_error& e) {
+    partial = e.what();
+  }
+  EXPECT_NE(partial.find("2 of the four measured-pressure columns"), std::string::npos) << partial;
+  EXPECT_NE(partial.find("partial.csv"), std::string::npos) << partial;
 
   // --hand-supported reaches the replay of any kind, here a range of motion.
   import_csv(write("rom.csv", "muscle,pressure_kpa,limit_deg\nflexor,137,30\n"), dir_ / "rom",

@@ -1,0 +1,86 @@
+// `softwrist synthesize`, `import` and `diagnose` from the command line: a small synthesized data set with a CSV of
+// the user's own beside it goes through to diagnosis.json, and each bad argument or input gives `error: ...` naming
+// it (the diagnosis itself is tested in tests/diagnosis/diagnosis_test.cc).
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/run_cli_for_test.h"
+#include "support/scratch_dir_test.h"
+
+namespace softwrist::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+const fs::path kSource = SOFTWRIST_SOURCE_DIR;
+
+using CliDiagnose = softwrist::testing::ScratchDirTest;
+
+TEST_F(CliDiagnose, SynthesizeImportAndDiagnoseWriteTheReport) {
+  const std::string model = (kSource / "models/paper_device.json").string();
+  const auto synth = run({"synthesize", "--model", model, "--out", (dir_ / "real").string(), "--trajectory-s", "4",
+                          "--repetitions", "2", "--imu-offset-deg", "1.5,0"});
+  ASSERT_EQ(synth.code, 0) << synth.err;
+  EXPECT_TRUE(fs::exists(dir_ / "real/real_device.json"));
+  // The user's own range-of-motion measurements, imported beside the synthesized logs.
+  std::ofstream(dir_ / "rom.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\nextensor,137,50\n";
+  const auto imported = run({"import", (dir_ / "rom.csv").string(), "--kind", "rom", "--out", (dir_ / "real/mine").string()});
+  ASSERT_EQ(imported.code, 0) << imported.err;
+  EXPECT_THAT(imported.out, HasSubstr("(2 rows)"));
+
+  const auto d = run({"diagnose", "--real", (dir_ / "real").string(), "--model", model, "--effects",
+                      "imu_bias,passive_wrist", "--bootstrap", "20", "--no-plots", "--out", (dir_ / "diag").string()});
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_THAT(d.out, HasSubstr("verdict: "));
+  const auto json = nlohmann::json::parse(std::ifstream(dir_ / "diag/diagnosis.json"));
+  ASSERT_EQ(json["effects"].size(), 2u);
+  for (const char* key : {"verdict", "effects", "localization", "error_metric"}) EXPECT_TRUE(json.contains(key)) << key;
+  std::set<std::string> experiments;
+  for (const auto& t : json["trials"]) experiments.insert(t["experiment"].get<std::string>());
+  EXPECT_TRUE(experiments.contains("mine/trials")) << json["trials"].dump();
+  EXPECT_TRUE(experiments.contains("trajectory/trials:case 0 pressures")) << json["trials"].dump();
+  EXPECT_TRUE(fs::exists(dir_ / "diag/diagnosis.html"));
+}
+
+TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
+  const std::string model = (kSource / "models/paper_device.json").string();
+  const std::string empty = (dir_ / "empty").string();
+  fs::create_directories(empty);
+  struct Case {
+    std::vector<std::string> args;
+    int code;  // 1 bad input, 2 bad arguments (cli.cc); 0: CLI11's own code for a missing option
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      {{"diagnose", "--real", (dir_ / "nowhere").string(), "--model", model}, 1, "not a directory of trial logs"},
+      {{"diagnose", "--real", empty, "--model", model}, 1, "no trial logs found"},
+      {{"diagnose", "--real", empty, "--model", model, "--effects", "friction"}, 2, "'friction' is not in the catalogue"},
+      {{"diagnose", "--real", empty, "--model", (dir_ / "none.json").string()}, 1, "none.json"},
+      {{"diagnose", "--real", empty, "--model", model, "--bootstrap", "3"}, 2, "--bootstrap must be >= 20"},
+      {{"diagnose", "--model", model}, 0, "--real is required"},
+      {{"import", (dir_ / "x.csv").string(), "--kind", "speed", "--out", empty}, 1, "--kind: 'speed'"},
+      {{"import", (dir_ / "missing.csv").string(), "--kind", "rom", "--out", empty}, 1, "missing.csv"},
+      {{"synthesize", "--model", model, "--out", empty, "--dead-time-s", "2"}, 2, "--dead-time-s must be within 0..1"},
+      {{"synthesize", "--model", model, "--out", empty, "--imu-offset-deg", "1"}, 2, "--imu-offset-deg"},
+      {{"synthesize", "--model", model, "--out", empty, "--eps-max-shift", "0.9"}, 2, "max_contraction eps_max"},
+  };
+  std::ofstream(dir_ / "x.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\n";
+  for (const Case& c : cases) {
+    const auto r = run(c.args);
+    EXPECT_NE(r.code, 0) << c.says;
+    if (c.code != 0) {
+      EXPECT_EQ(r.code, c.code) << c.args[0] << " " << c.says << ": " << r.err;
+      EXPECT_THAT(r.err, HasSubstr("error: ")) << c.says;
+    }
+    EXPECT_THAT(r.err, HasSubstr(c.says));
+  }
+}
+
+}  // namespace
+}  // namespace softwrist::cli
