@@ -1,14 +1,18 @@
 #include "cli/diagnose_commands.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <memory>
+#include <set>
 
 #include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "cli/arguments.h"
+#include "diagnosis/benchmark.h"
 #include "diagnosis/csv_import.h"
 #include "diagnosis/diagnosis.h"
 #include "diagnosis/diagnosis_report.h"
@@ -57,6 +61,8 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);
+  out << fmt::format("the same over the trials with a significant gap: nominal {:.3f}, corrected {:.3f} (closed {:.1f} %)\n",
+                     d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed());
   out << "effect            shrink   95% CI            held-out after  params\n";
   for (const auto& f : d.effects) {
     if (!f.applicable) {
@@ -185,6 +191,95 @@ void run_diagnose_bench(const DiagnoseBenchOptions& o, std::ostream& out) {
                      d.trials.size(), points, evaluations, o.jobs, wall, d.verdict);
 }
 
+struct DiagnoseBenchmarkOptions {
+  int seeds = 5;
+  std::uint64_t first_seed = 1;
+  int jobs = 2;
+  std::vector<std::string> cases;
+  double trajectory_s = 24.0;
+  std::string keep;
+  double variation = 1.0;
+  bool json = false;
+};
+
+std::string percent(double v) { return std::isfinite(v) ? fmt::format("{:.1f} %", 100.0 * v) : "-"; }
+
+// The withheld-effect benchmark (diagnosis/benchmark.h) on the paper's device.
+void run_diagnose_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& out, std::ostream& err) {
+  if (o.seeds < 1 || o.seeds > 1000) throw UsageError("--seeds must be within 1..1000");
+  if (o.jobs < 1) throw UsageError("--jobs must be >= 1");
+  if (o.trajectory_s < 4 || o.trajectory_s > 600) throw UsageError("--trajectory-s must be within 4..600");
+  const auto names = diagnosis::bench_case_names();
+  for (const auto& c : o.cases) {
+    if (std::find(names.begin(), names.end(), c) == names.end()) {
+      throw UsageError(fmt::format("--cases: '{}' is not a benchmark case ({})", c, fmt::join(names, ", ")));
+    }
+  }
+  diagnosis::BenchOptions options{.seeds = o.seeds, .first_seed = o.first_seed, .jobs = o.jobs, .cases = o.cases};
+  options.plan.trajectory_s = o.trajectory_s;
+  if (!(o.variation >= 0.0 && o.variation <= 10.0)) throw UsageError("--variation must be within 0..10");
+  options.variation = o.variation;
+  options.keep = !o.keep.empty();
+  options.scratch = options.keep ? fs::path(o.keep)
+                                 : fs::temp_directory_path() / fmt::format("softwrist_diagnose_bench_{}", ::getpid());
+  if (!o.json) {
+    err << fmt::format("{} cases x {} seeds and the paper's case on {} jobs...\n",
+                       o.cases.empty() ? names.size() : o.cases.size(), o.seeds, o.jobs);
+  }
+  diagnosis::BenchResult result;
+  try {
+    result = diagnosis::run_benchmark(sim::paper_device(), options);
+  } catch (...) {
+    if (!options.keep) fs::remove_all(options.scratch);
+    throw;
+  }
+  if (!options.keep) fs::remove_all(options.scratch);
+  if (o.json) {
+    out << diagnosis::to_json(result).dump(2) << "\n";
+    return;
+  }
+  std::set<std::string> verdicts;
+  for (const auto& [injected, row] : result.confusion) {
+    for (const auto& [verdict, count] : row) verdicts.insert(verdict);
+  }
+  out << "confusion (rows: injected, columns: verdict)\n" << fmt::format("{:<15}", "");
+  for (const auto& v : verdicts) out << fmt::format(" {:>14}", v);
+  out << fmt::format(" {:>12}\n", "mean shrink");
+  for (const auto& name : names) {
+    if (!result.confusion.contains(name)) continue;
+    out << fmt::format("{:<15}", name);
+    for (const auto& v : verdicts) {
+      const auto& row = result.confusion.at(name);
+      out << fmt::format(" {:>14}", row.contains(v) ? std::to_string(row.at(v)) : ".");
+    }
+    double shrink = 0.0;
+    int n = 0;
+    for (const auto& r : result.runs) {
+      if (r.injected != name) continue;
+      shrink += r.shrink_fraction;
+      ++n;
+    }
+    out << fmt::format(" {:>12}\n", percent(shrink / n));
+  }
+  const auto line = [&](const char* what, double value, double target) {
+    out << fmt::format("{:<42} {:>8}  (target >= {:.0f} %){}\n", what, percent(value), 100.0 * target,
+                       std::isfinite(value) ? (value >= target ? "" : "  MISSED") : "");
+  };
+  line("top-1 accuracy, single catalogue effects", result.top1_accuracy, diagnosis::kTop1Target);
+  line("held-out gap closed, single catalogue effects", result.mean_shrink_fraction, diagnosis::kShrinkTarget);
+  line("'none' on the no-effect case", result.none_correct_rate, diagnosis::kNoneTarget);
+  line(fmt::format("'unexplained' on the outside case ({})", diagnosis::kOutsideEffect).c_str(),
+       result.unexplained_correct_rate, diagnosis::kUnexplainedTarget);
+  if (result.paper_case) {
+    const auto& p = *result.paper_case;
+    out << fmt::format("paper's case (stretching withheld): verdict {}, torque MAE {:.3f} -> {:.3f} N m (x{:.1f}; the "
+                       "paper: 1.111 -> 0.283, x3.9)\n",
+                       p.verdict, p.torque_mae_before_nm, p.torque_mae_after_nm,
+                       p.torque_mae_before_nm / p.torque_mae_after_nm);
+  }
+  out << fmt::format("{} diagnoses in {:.1f} s\n", result.runs.size() + (result.paper_case ? 1 : 0), result.wall_s);
+}
+
 }  // namespace
 
 void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
@@ -246,6 +341,23 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
                   "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
   synth->callback([s, &out] { run_synthesize(*s, out); });
+
+  auto b = std::make_shared<DiagnoseBenchmarkOptions>();
+  auto* bench = app.add_subcommand(
+      "diagnose-bench", "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
+                        "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
+  bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
+  bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
+  bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
+  bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
+  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
+  bench->add_option("--variation", b->variation,
+                    "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
+  bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
+  bench->add_flag("--json", b->json,
+                  "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
+                  "confusion, runs, paper_case, wall_s}");
+  bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
 }
 
 }  // namespace softwrist::cli

@@ -3,6 +3,7 @@
 //   softwrist import --kind KIND FILE.csv --out DIR          a user's CSV as a trial log
 //   softwrist diagnose --real DIR --model PLACEMENT [--out]  diagnosis.json and diagnosis.html
 //   softwrist synthesize --model PLACEMENT --out DIR [...]   "real" data from a simulated device with effects injected
+//   softwrist diagnose-bench [--seeds N] [--json]           the withheld-effect benchmark of the diagnosis
 
 #include <ostream>
 

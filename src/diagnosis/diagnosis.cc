@@ -47,7 +47,7 @@ class Problem {
 
   // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements.
   double training_error(const std::vector<std::vector<double>>& predictions) const {
-    return mean_over_kinds([&](std::size_t t) {
+    return mean_over_kinds(nullptr, [&](std::size_t t) {
       const PreparedTrial& trial = trials_[t];
       double sum = 0.0;
       int n = 0;
@@ -78,9 +78,11 @@ class Problem {
     return sums;
   }
 
-  // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is).
-  double heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr) const {
-    return mean_over_kinds([&](std::size_t t) {
+  // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is); with
+  // `only`, over the trials it marks.
+  double heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr,
+                       const std::vector<bool>* only = nullptr) const {
+    return mean_over_kinds(only, [&](std::size_t t) {
       double sum = 0.0;
       double n = 0.0;
       for (std::size_t u = 0; u < sums.per_trial[t].size(); ++u) {
@@ -110,9 +112,10 @@ class Problem {
   ReplayEngine& engine() const { return engine_; }
 
  private:
-  double mean_over_kinds(const std::function<double(std::size_t)>& per_trial) const {
+  double mean_over_kinds(const std::vector<bool>* only, const std::function<double(std::size_t)>& per_trial) const {
     std::map<TrialKind, std::pair<double, int>> by_kind;
     for (std::size_t t = 0; t < trials_.size(); ++t) {
+      if (only != nullptr && !(*only)[t]) continue;
       auto& k = by_kind[trials_[t].trial->kind];
       k.first += per_trial(t);
       ++k.second;
@@ -394,6 +397,12 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.corrected.emplace(current);
   d.corrected_predictions = current_full;
   d.heldout_corrected = problem.heldout_error(problem.heldout_sums(current_full));
+  // The gap to explain: the trials whose nominal residual is significant (the others only add their noise floor,
+  // which no effect removes).
+  std::vector<bool> gap_trials;
+  for (const auto& t : d.trials) gap_trials.push_back(t.significant);
+  d.gap_nominal = problem.heldout_error(problem.heldout_sums(nominal_full.predictions), nullptr, &gap_trials);
+  d.gap_corrected = problem.heldout_error(problem.heldout_sums(current_full), nullptr, &gap_trials);
   for (std::size_t t = 0; t < problem.size(); ++t) {
     const std::vector<double> r = residuals_of(d.prepared[t], current_full[t]);
     d.trials[t].rms_corrected = rms(r);
@@ -401,11 +410,16 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   }
 
   // Verdict.
-  const double closed = d.heldout_nominal > 0.0 ? (d.heldout_nominal - d.heldout_corrected) / d.heldout_nominal : 0.0;
+  const double closed = d.gap_closed();
   if (!gap_significant) {
     d.verdict = "none";
     d.reason = fmt::format("no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, "
                            "alpha {} over {} trials)", options.alpha, problem.size());
+  } else if (d.heldout_nominal < options.min_gap) {
+    d.verdict = "none";
+    d.reason = fmt::format("the nominal model's systematic residual is {:.2f} of the noise on held-out data (below "
+                           "{}): detectable in this much data, but within the noise of a measurement",
+                           d.heldout_nominal, options.min_gap);
   } else if (!d.combination.empty() && closed >= options.explained_fraction) {
     d.verdict = d.combination.front().name;
     d.reason = fmt::format("{} closes {:.0f} % of the held-out gap on its own ({:.0f} % with the combination)",
@@ -445,6 +459,9 @@ nlohmann::json to_json(const Diagnosis& d) {
       "residual in units of the repeat-to-repeat noise; averaged over the trials of each kind, then over the kinds";
   j["heldout_error_nominal"] = d.heldout_nominal;
   j["heldout_error_corrected"] = d.heldout_corrected;
+  j["gap_error_nominal"] = d.gap_nominal;
+  j["gap_error_corrected"] = d.gap_corrected;
+  j["gap_closed"] = d.gap_closed();
   j["remaining_gap_significant"] = d.remaining_gap_significant;
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));

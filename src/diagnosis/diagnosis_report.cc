@@ -103,7 +103,8 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
 td,th{{border:1px solid #ccc;padding:3px 6px;font-size:13px}} img{{max-width:100%}}</style></head><body>
 <h1>Sim-to-real gap diagnosis</h1>
 <p><b>Verdict: {}</b> ({})</p>
-<p>Held-out error ({}): nominal {:.3f}, corrected {:.3f}; a significant gap remains after correction: {}.</p>
+<p>Held-out error ({}): nominal {:.3f}, corrected {:.3f}; over the trials with a significant gap {:.3f} and {:.3f}
+(closed {:.1f} %); a significant gap remains after correction: {}.</p>
 <h2>Effects, each alone on the nominal model (best first)</h2>
 <table><tr><th>effect</th><th>held-out before</th><th>after</th><th>shrink</th><th>95 % bootstrap CI</th><th>fitted</th></tr>
 {}</table>
@@ -122,7 +123,8 @@ td,th{{border:1px solid #ccc;padding:3px 6px;font-size:13px}} img{{max-width:100
 </body></html>
 )",
                       html_escape(d.verdict), html_escape(d.reason), kErrorMetric, d.heldout_nominal,
-                      d.heldout_corrected, d.remaining_gap_significant ? "yes" : "no", effect_rows(d.effects),
+                      d.heldout_corrected, d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed(),
+                      d.remaining_gap_significant ? "yes" : "no", effect_rows(d.effects),
                       effect_rows(d.combination), trials, where, images.empty() ? "<p>(no plots)</p>" : images,
                       skipped.empty() ? "<li>none</li>" : skipped);
   return result;

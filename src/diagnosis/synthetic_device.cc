@@ -1,9 +1,12 @@
 #include "diagnosis/synthetic_device.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
+
+#include <fmt/format.h>
 
 #include "experiments/trial_log.h"
 #include "io/csv.h"
@@ -35,7 +38,14 @@ experiments::LogWriter open_log(const fs::path& dir, const std::string& kind, st
 sim::Model load(const SyntheticDevice& real, const sim::PluginSet& plugins, double gravity) {
   sim::ModelOptions options;
   options.gravity = gravity;
-  return sim::Model::FromXml(sim::build_model_xml(real.device, options), plugins, "synthetic device");
+  std::string xml = sim::build_model_xml(real.device, options);
+  if (real.wrap_friction_n > 0.0) {  // friction along each muscle's tendon path: it slides over the wrist
+    const std::string tendon = "<spatial name=";
+    for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size())) {
+      xml.insert(at + tendon.find(" ") + 1, fmt::format("frictionloss=\"{:.10g}\" ", real.wrap_friction_n));
+    }
+  }
+  return sim::Model::FromXml(xml, plugins, "synthetic device");
 }
 
 void write_sweep(const SyntheticDevice& real, const SyntheticPlan& plan, const sim::PluginSet& plugins,
@@ -47,13 +57,15 @@ void write_sweep(const SyntheticDevice& real, const SyntheticPlan& plan, const s
                       {{"muscle", "flexor"}});
   const sim::Model model = load(real, plugins, sim::kStandardGravity);
   sim::WristSim wrist(model);
+  // The rig reads the torque once the regulator has settled (within 0.03 % after 8 time constants), at least 1 s.
+  const double hold_s = std::max(1.0, 8.0 * real.device.regulator.time_constant);
   for (double angle_deg : {-67.5, -45.0, -22.5, 0.0, 22.5, 45.0, 67.5, 90.0}) {
     for (double kpa : {0.0, 34.0, 68.0, 103.0, 137.0}) {
       for (int rep = 0; rep < plan.repetitions; ++rep) {
         const double actual = angle_deg + plan.noise.angle_jitter_deg * normal(rng);
         wrist.reset();
         wrist.command_pressures_kpa({kpa, 0.0, 0.0, 0.0});
-        wrist.run_held(1.0, deg_to_rad(actual), 0.0);
+        wrist.run_held(hold_s, deg_to_rad(actual), 0.0);
         const double torque = wrist.muscle_torque(sim::kFlexor) + plan.noise.torque_nm * normal(rng);
         log.write_row({std::to_string(rep), "flexor", format_number(actual), format_number(kpa), format_number(torque)});
       }
@@ -96,8 +108,10 @@ void write_tensile(const SyntheticDevice& real, const SyntheticPlan& plan, std::
       for (const bool loading : {true, false}) {
         for (int k = 0; k <= 12; ++k) {
           const double eps = eps_max * (loading ? 12 - k : k) / 12.0;  // loading stretches: contraction falls
-          const double force = physics::fpam_force(real.device.fpam, units::kpa_to_pa(kpa), eps) *
-                                   (1.0 + (loading ? real.hysteresis : -real.hysteresis)) +
+          const double sign = loading ? 1.0 : -1.0;
+          const double pressure = units::kpa_to_pa(kpa);
+          const double force = physics::fpam_force(real.device.fpam, pressure, eps) * (1.0 + sign * real.hysteresis) +
+                               sign * real.hysteresis_friction * physics::fpam_force(real.device.fpam, pressure, 0.0) +
                                plan.noise.force_n * normal(rng);
           log.write_row({std::to_string(cycle), loading ? "loading" : "unloading", format_number(kpa),
                          format_number(eps), format_number(force)});
@@ -112,6 +126,7 @@ void write_tensile(const SyntheticDevice& real, const SyntheticPlan& plan, std::
 void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, const sim::PluginSet& plugins,
                       std::mt19937_64& rng, const fs::path& out) {
   std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> jitter(-real.imu_latency_jitter, real.imu_latency_jitter);
   std::vector<experiments::Column> columns = {{"case", "", ""}, {"t_s", "s", ""}};
   for (const char* m : sim::kMuscleNames) columns.push_back({std::string("cmd_") + m + "_kpa", "kPa", ""});
   columns.push_back({"measured_fe_deg", "deg", ""});
@@ -133,14 +148,21 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
   std::vector<std::array<double, 2>> history;
   double next_row = 0.0;
   const auto steps = static_cast<std::size_t>(plan.trajectory_s / dt);
+  std::array<double, 4> prefiltered{};  // the second regulator stage's output
   for (std::size_t k = 0; k <= steps; ++k) {
     const double t = static_cast<double>(k) * dt;
     // Commands are logged on the loop's ticks and reach the regulators dead_time later.
     const double commanded = std::floor((t - real.regulator_dead_time) / loop + 1e-9) * loop;
-    wrist.command_pressures_kpa(command_at(commanded));
+    std::array<double, 4> command = command_at(commanded);
+    if (real.regulator_prefilter_time_constant > 0.0) {
+      const double a = 1.0 - std::exp(-dt / real.regulator_prefilter_time_constant);  // exact first-order step
+      for (std::size_t m = 0; m < 4; ++m) command[m] = prefiltered[m] += a * (command[m] - prefiltered[m]);
+    }
+    wrist.command_pressures_kpa(command);
     history.push_back({wrist.angle(sim::WristJoint::kFlexionExtension), wrist.angle(sim::WristJoint::kUlnarRadial)});
     if (t + 1e-9 >= next_row) {
-      const double sampled = std::max(0.0, std::floor((t - real.imu_latency) / imu_period + 1e-9) * imu_period);
+      const double late = real.imu_latency + (real.imu_latency_jitter > 0.0 ? jitter(rng) : 0.0);
+      const double sampled = std::max(0.0, std::floor((t - late) / imu_period + 1e-9) * imu_period);
       const auto& angles = history[std::min(history.size() - 1, static_cast<std::size_t>(std::lround(sampled / dt)))];
       const auto cmd = command_at(std::floor(t / loop + 1e-9) * loop);
       std::vector<std::string> row = {"0", format_number(t)};

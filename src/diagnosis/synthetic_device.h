@@ -4,10 +4,13 @@
 // lack, measurement noise, and writes them as trial logs. The diagnosis's tests and benchmark hand these logs to
 // `diagnose` without saying what was injected.
 //
-// The effects are implemented here on their own, not through diagnosis/effects.h: the real device's description is
-// edited (mount stiffness, fPAM, wrist radius, relaxed wrist, regulator), commands are delayed by the dead time on
-// their way to the MuJoCo model, the IMU pair samples at 100 Hz with latency, offset and noise, and the tensile rig's
-// hysteresis is a loading/unloading force factor.
+// The effects are implemented here on their own, not through diagnosis/effects.h, and several in another functional
+// form than the catalogue fits (diagnosis/benchmark.cc chooses them): the real device's description is edited (mount
+// stiffness and stretch law, the fPAM table row by row, each muscle's wrist radius, each axis's relaxed wrist,
+// the regulator), commands are delayed by the dead time and may pass a second regulator stage on their way to the
+// MuJoCo model, the IMU pair samples at 100 Hz with latency (optionally jittered), offset and noise, the tensile
+// rig's hysteresis is a loading/unloading force factor plus a friction force, and the muscles may rub where they
+// cross the wrist (MuJoCo tendon friction, an effect outside the catalogue).
 
 #include <cstdint>
 #include <filesystem>
@@ -19,9 +22,16 @@ namespace softwrist::diagnosis {
 struct SyntheticDevice {
   sim::DeviceDescription device;  // the "real" device
   double regulator_dead_time = 0.0;  // [s]
+  // [s] a first-order stage before the model's own regulator (0: none): the pair is a second-order regulator.
+  double regulator_prefilter_time_constant = 0.0;
   double imu_offset_fe_deg = 0.0, imu_offset_ur_deg = 0.0;
-  double imu_latency = 0.0;  // [s]
-  double hysteresis = 0.0;   // tensile force x (1 +- h)
+  double imu_latency = 0.0;         // [s]
+  double imu_latency_jitter = 0.0;  // [s] each IMU reading is late by latency + U(-jitter, +jitter)
+  double hysteresis = 0.0;          // tensile force x (1 +- h)
+  // Tensile force +- this fraction of the force at zero contraction at the same pressure (a friction that grows with
+  // pressure rather than with the force).
+  double hysteresis_friction = 0.0;
+  double wrap_friction_n = 0.0;  // [N] dry friction of each muscle's path over the wrist (tendon frictionloss)
 };
 
 struct SyntheticNoise {
