@@ -13,9 +13,8 @@
 #include "common/parallel_for.h"
 #include "diagnosis/diagnosis_report.h"
 #include "diagnosis/effects.h"
-#include "physics/errors.h"
-#include "physics/fpam_force.h"
-#include "physics/units.h"
+#include "physics/fpam_parameters.h"
+#include "physics/mount_stretch.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -141,7 +140,7 @@ std::string inject(const std::string& injected, SyntheticDevice& real, Draw& dra
   throw std::invalid_argument(fmt::format("'{}' is not a benchmark case ({})", injected, fmt::join(bench_case_names(), ", ")));
 }
 
-// The fraction of runs of `injected` whose verdict is `expected` (NaN without runs).
+// The fraction of the runs `of_case` picks whose verdict is `right` (NaN without such runs).
 double rate(const std::vector<BenchRun>& runs, const std::function<bool(const BenchRun&)>& of_case,
             const std::function<bool(const BenchRun&)>& right) {
   int n = 0, ok = 0;
