@@ -15,7 +15,7 @@ cmake --build build/release -j2 --target softwrist softwrist_fpam
 softwrist=./build/release/src/cli/softwrist
 $softwrist model tables --out out/main
 for experiment in torque_validation range_of_motion design_optimization planar_tracking spatial_tracking; do
-  $softwrist run "experiments/$experiment.json" --out "out/main/$experiment" --jobs 2 --quiet
+  $softwrist run "experiments/$experiment.json" --out "out/main/$experiment" --jobs 2 --quiet --overwrite
   $softwrist report "out/main/$experiment"
 done
 $softwrist render --fe-deg 30 --pressures-kpa 137,10,0,0 --view radial --out out/main/flexor_137kpa_radial.png
@@ -32,7 +32,7 @@ for _ in $(seq 100); do [ -e out/main/emulated_device ] && break; sleep 0.1; don
 $softwrist trial experiments/planar_rehearsal.json --device out/main/emulated_device --out out/main/rehearsal_trial \
   --overwrite
 kill -TERM "$emulator" && wait "$emulator"
-$softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet
+$softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet --overwrite
 $softwrist report out/main/rehearsal_trial
 $softwrist report out/main/rehearsal_sim
 # The gap diagnosis on the paper's case: "real" data from the paper's device (whose mounts stretch), diagnosed against

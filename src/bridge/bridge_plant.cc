@@ -115,48 +115,24 @@ void BridgePlant::pump(int timeout_ms) {
 }
 
 void BridgePlant::handle_line(const char* line, std::size_t length) {
-  wire::Packet p;
-  if (wire::parse_line(line, length, &p) != wire::kOk || (p.type != 'V' && p.type != 'D' && p.type != 'R')) {
-    ++stats_.garbled_from_device;
-    return;
-  }
-  // A V packet answers our hello and may come from a device that restarted its count; anything else must be newer.
-  if (p.type != 'V' && device_seq_seen_ && !wire::is_newer(p.seq, device_seq_)) {
-    ++stats_.out_of_sequence;
-    return;
-  }
-  device_seq_ = p.seq;
-  device_seq_seen_ = true;
-  if (p.type == 'R') {
-    ++stats_.rejected_by_device;
-  } else if (p.type == 'V') {
-    device_.version = p.fields[0];
-    device_.limits.max_dkpa = p.fields[1];
-    device_.limits.rate_dkpa_s = p.fields[2];
-    device_.limits.timeout_ms = static_cast<uint32_t>(std::max<int32_t>(p.fields[3], 0));
-    answered_ = true;
-  } else {
-    handle_data(p);
+  switch (protocol_.handle_line(line, length)) {
+    case DeviceLine::kGarbled: ++stats_.garbled_from_device; break;
+    case DeviceLine::kOutOfSequence: ++stats_.out_of_sequence; break;
+    case DeviceLine::kRejection: ++stats_.rejected_by_device; break;
+    case DeviceLine::kAnswer: answered_ = true; break;
+    case DeviceLine::kData: handle_data(protocol_.data()); break;
   }
 }
 
-void BridgePlant::handle_data(const wire::Packet& p) {
-  const int flags = p.fields[7];
-  bool plausible = flags >= 0 && flags < 64 && std::abs(p.fields[1]) <= 18000 && std::abs(p.fields[2]) <= 18000;
-  for (int i = 3; i < 7; ++i) plausible = plausible && p.fields[i] >= -100 && p.fields[i] <= 100000;
-  if (!plausible) {
-    ++stats_.garbled_from_device;
-    return;
-  }
+void BridgePlant::handle_data(const DeviceData& data) {
   const uint32_t now = now_ms();
   if (session_ && have_data_) stats_.max_data_gap_s = std::max(stats_.max_data_gap_s, (now - data_ms_) / 1000.0);
   have_data_ = true;
   data_ms_ = now;
-  for (int i = 0; i < 8; ++i) data_fields_[i] = p.fields[i];
-  data_flags_ = flags;
+  data_ = data;
   ++stats_.data_received;
-  gate_.imu_reading(!(flags & wire::kImuFault), now);
-  if (session_ && (flags & kSessionFaults)) fault(fmt::format("the device reports {}", describe_flags(flags)));
+  gate_.imu_reading(!(data.flags & wire::kImuFault), now);
+  if (session_ && (data.flags & kSessionFaults)) fault(fmt::format("the device reports {}", describe_flags(data.flags)));
 }
 
 DeviceInfo BridgePlant::start_session() {
@@ -178,14 +154,15 @@ DeviceInfo BridgePlant::start_session() {
     }
     pump(static_cast<int>(std::ceil(1000.0 * std::min(next_hello, deadline) - 1000.0 * now)));
   }
-  if (device_.version != wire::kProtocolVersion) {
+  const DeviceInfo& device = protocol_.device();
+  if (device.version != wire::kProtocolVersion) {
     throw BridgeFault(fmt::format("{}: the device speaks protocol version {}, this softwrist version {}",
-                                  link_.name(), device_.version, wire::kProtocolVersion));
+                                  link_.name(), device.version, wire::kProtocolVersion));
   }
-  if (device_.limits.max_dkpa <= 0 || device_.limits.rate_dkpa_s <= 0 || device_.limits.timeout_ms == 0) {
+  if (device.limits.max_dkpa <= 0 || device.limits.rate_dkpa_s <= 0 || device.limits.timeout_ms == 0) {
     fault("the device announced limits that are not positive");
   }
-  gate_ = wire::SafetyGate(stricter(options_.limits, device_.limits));
+  gate_ = wire::SafetyGate(stricter(options_.limits, device.limits));
   const uint32_t start = now_ms();
   gate_.start_session(start);
   have_data_ = false;
@@ -195,7 +172,7 @@ DeviceInfo BridgePlant::start_session() {
     if (now_ms() - start > gate_.limits().timeout_ms * 5) fault("no data after the hello's answer");
     pump(5);
   }
-  return device_;
+  return device;
 }
 
 void BridgePlant::end_session() {
@@ -241,15 +218,15 @@ void BridgePlant::command_pressures_kpa(const control::Pressures& pressures) {
 control::ImuReading BridgePlant::read_angles() {
   control::ImuReading r;
   if (!have_data_) return r;
-  r.angles = {.fe_deg = data_fields_[1] / 100.0, .ur_deg = data_fields_[2] / 100.0};
+  r.angles = {.fe_deg = data_.fe_cdeg / 100.0, .ur_deg = data_.ur_cdeg / 100.0};
   r.time_s = data_ms_ / 1000.0;
-  r.valid = !(data_flags_ & wire::kImuFault) && now_ms() - data_ms_ <= gate_.limits().timeout_ms;
+  r.valid = !(data_.flags & wire::kImuFault) && now_ms() - data_ms_ <= gate_.limits().timeout_ms;
   return r;
 }
 
 control::Pressures BridgePlant::measured_pressures_kpa() const {
   control::Pressures p{};
-  for (std::size_t i = 0; i < 4; ++i) p[i] = data_fields_[3 + i] / 10.0;
+  for (std::size_t i = 0; i < 4; ++i) p[i] = data_.measured_dkpa[i] / 10.0;
   return p;
 }
 

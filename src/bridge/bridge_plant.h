@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "bridge/host_protocol.h"
 #include "bridge/safety_gate.h"
 #include "bridge/serial_port.h"
 #include "bridge/wire_format.h"
@@ -35,12 +36,6 @@ struct BridgeOptions {
   wire::SafetyLimits limits;         // the host's own; the stricter of these and the device's apply
   double handshake_timeout_s = 3.0;  // an Uno resets when its port opens and takes ~1.6 s to boot
   double hello_interval_s = 0.25;    // hello is repeated until the device answers
-};
-
-// The device's answer to hello.
-struct DeviceInfo {
-  int version = 0;
-  wire::SafetyLimits limits;
 };
 
 struct BridgeStats {
@@ -76,9 +71,9 @@ class BridgePlant final : public control::Plant {
 
   // From the latest valid data packet: the regulators' measured pressures [kPa] and the status (wire::StatusFlag).
   control::Pressures measured_pressures_kpa() const;
-  int device_flags() const { return data_flags_; }
+  int device_flags() const { return data_.flags; }
   const BridgeStats& stats() const { return stats_; }
-  const DeviceInfo& device() const { return device_; }
+  const DeviceInfo& device() const { return protocol_.device(); }
   const std::string& link_name() const { return link_.name(); }
   // The sequence number the next packet to the device will carry (for the latency benchmark).
   uint16_t next_seq() const { return host_seq_; }
@@ -89,7 +84,7 @@ class BridgePlant final : public control::Plant {
   // Reads what arrives within `timeout_ms` and handles every complete line.
   void pump(int timeout_ms);
   void handle_line(const char* line, std::size_t length);
-  void handle_data(const wire::Packet& p);
+  void handle_data(const DeviceData& data);
   void check_data_fresh();
   [[noreturn]] void fault(const std::string& cause);
 
@@ -98,20 +93,17 @@ class BridgePlant final : public control::Plant {
   std::chrono::steady_clock::time_point epoch_;
   wire::LineAssembler lines_;
   wire::SafetyGate gate_;
-  DeviceInfo device_;
+  HostProtocol protocol_;
   BridgeStats stats_;
   bool session_ = false;
   bool link_lost_ = false;
   bool answered_ = false;  // a V packet arrived since the last hello
   uint16_t host_seq_ = 0;
-  uint16_t device_seq_ = 0;
-  bool device_seq_seen_ = false;
   uint32_t last_command_ms_ = 0;
   // The latest valid data packet.
   bool have_data_ = false;
   uint32_t data_ms_ = 0;  // host time it arrived
-  int32_t data_fields_[8] = {};
-  int data_flags_ = wire::kNoSession;
+  DeviceData data_;
 };
 
 }  // namespace softwrist::bridge

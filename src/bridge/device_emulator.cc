@@ -130,6 +130,10 @@ EmulatorStats DeviceEmulator::stats() const {
 void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point epoch = Clock::now();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.epoch = epoch;
+  }
   const auto now_ms = [&] {
     return static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - epoch).count());
   };

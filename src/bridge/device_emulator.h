@@ -15,6 +15,7 @@
 // and records every moment it vents with the cause, so tests can check how quickly a fault made it safe.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -79,6 +80,7 @@ struct EmulatorStats {
   std::uint32_t max_loop_lag_ms = 0;  // how far the emulated loop fell behind real time (a loaded machine)
   std::uint32_t fault_injected_ms[3] = {0, 0, 0};  // imu stale, garbage, link cut; 0: not injected
   std::vector<VentEvent> vents;
+  std::chrono::steady_clock::time_point epoch;  // serve()'s start: the device clock's zero
 };
 
 class DeviceEmulator {

@@ -94,8 +94,10 @@ TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& 
   const double rest_s = options.rest_s;
   if (!(rest_s >= 0.0)) throw std::runtime_error("the rest before each run must be >= 0 s");
   if (std::filesystem::exists(options.out / (std::string(experiments::kTrialLogName) + ".csv")) && !options.overwrite) {
-    throw std::runtime_error(fmt::format("{} holds a trial log already: choose another --out, or --overwrite",
-                                         options.out.string()));
+    // A hardware trial is not resumed: the subject, the device and the session of the lost runs are gone.
+    throw std::runtime_error(fmt::format("{} holds a trial log already (bridge.json says how its runs ended); a trial "
+                                         "is not resumed but run again: choose another --out, or replace it with "
+                                         "--overwrite", options.out.string()));
   }
 
   experiments::LogHeader header{.kind = experiment->kind(),

@@ -10,6 +10,7 @@
 #include "bridge/bridge_plant.h"
 #include "bridge/device_emulator.h"
 #include "bridge/hardware_trial.h"
+#include "bridge/soak.h"
 #include "cli/arguments.h"
 #include "cli/stop_signals.h"
 #include "experiments/experiment.h"
@@ -107,6 +108,39 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
   }
 }
 
+struct SoakCommandOptions {
+  std::string config = "experiments/planar_rehearsal.json";
+  std::string emulator = "experiments/emulator/realistic.json";
+  std::string out = "out/soak";
+  double duration_s = 3600.0;
+  double fault_interval_s = 20.0;
+  std::uint64_t seed = 1;
+};
+
+void soak(const SoakCommandOptions& options, std::ostream& out, std::ostream& err) {
+  if (!(options.duration_s > 0.0)) throw UsageError("--duration-s must be > 0");
+  if (!(options.fault_interval_s > 0.0)) throw UsageError("--fault-interval-s must be > 0");
+  const bridge::SoakResult result =
+      bridge::run_soak(experiments::load_experiment_config(options.config), bridge::load_emulator_config(options.emulator),
+                       {.duration_s = options.duration_s,
+                        .out = options.out,
+                        .relay = {.mean_interval_s = options.fault_interval_s, .seed = options.seed},
+                        .progress = &err});
+  const nlohmann::json j = bridge::to_json(result);
+  const auto& memory = result.memory;
+  out << fmt::format("soak: {:.0f} s, {} trials, {} rows, {} faults {}, slowest vent {:.1f} ms after its fault; heap in "
+                     "use {:.2f} MB at the start, {:.2f} MB at the end (resident {:.1f} -> {:.1f} MB); {}/soak.json\n",
+                     result.duration_s, result.trials.size(), j["rows"].get<long>(), result.faults.size(),
+                     j["faults_by_kind"].dump(), j["max_vent_after_ms"].get<double>(),
+                     memory.front().heap_bytes / 1e6, memory.back().heap_bytes / 1e6,
+                     memory.front().resident_bytes / 1e6, memory.back().resident_bytes / 1e6, options.out);
+  if (!result.passed()) {
+    std::string list;
+    for (const auto& f : result.failures) list += "\n  " + f;
+    throw std::runtime_error("soak: failed:" + list);
+  }
+}
+
 }  // namespace
 
 void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
@@ -141,6 +175,20 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("--baud", trial_options->baud, "Serial speed");
   trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");
   trial_command->callback([trial_options, &out, &err] { trial(*trial_options, out, err); });
+
+  auto soak_options = std::make_shared<SoakCommandOptions>();
+  auto* soak_command = app.add_subcommand(
+      "soak", "The long trial: tracking through the bridge against the emulator over a link with random faults; "
+              "checks that every fault vents within 50 ms, every log reads back whole, memory stays flat");
+  soak_command->add_option("--duration-s", soak_options->duration_s, "How long; default 3600");
+  soak_command->add_option("--fault-interval-s", soak_options->fault_interval_s, "Mean time between faults; default 20");
+  soak_command->add_option("--seed", soak_options->seed, "Seed of the fault schedule");
+  soak_command->add_option("--out", soak_options->out, "Directory for the trials and soak.json; default out/soak");
+  soak_command->add_option("--config", soak_options->config, "Tracking experiment; default the planar rehearsal")
+      ->check(CLI::ExistingFile);
+  soak_command->add_option("--emulator", soak_options->emulator, "Emulator config; default the realistic device")
+      ->check(CLI::ExistingFile);
+  soak_command->callback([soak_options, &out, &err] { soak(*soak_options, out, err); });
 }
 
 }  // namespace softwrist::cli

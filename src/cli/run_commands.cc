@@ -17,6 +17,8 @@ struct RunOptions {
   int jobs = 0;
   std::string shard = "1/1";
   bool quiet = false;
+  bool resume = false;
+  bool overwrite = false;
 };
 
 struct MergeOptions {
@@ -47,12 +49,20 @@ void run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     dir = std::filesystem::path("runs") / config.name;
     if (shard.second > 1) dir += fmt::format("-shard-{}-of-{}", shard.first, shard.second);
   }
+  if (options.resume && options.overwrite) throw UsageError("--resume and --overwrite exclude each other");
+  std::string command = fmt::format("softwrist run {} --out {}", options.config, dir.string());
+  if (shard.second > 1) command += " --shard " + options.shard;
   const auto result = experiments::run_experiment(
       config, {.out = dir,
+               .existing = options.resume      ? experiments::ExistingRun::kResume
+                           : options.overwrite ? experiments::ExistingRun::kOverwrite
+                                               : experiments::ExistingRun::kRefuse,
+               .command = command,
                .jobs = options.jobs > 0 ? options.jobs : default_jobs(),
                .shard_index = shard.first,
                .shard_count = shard.second,
                .progress = options.quiet ? nullptr : &err});
+  if (result.cases_resumed > 0) out << fmt::format("{}: resumed: {} cases kept from the interrupted run\n", dir.string(), result.cases_resumed);
   print_done(out, dir, result);
   if (!result.complete) {
     out << fmt::format("shard {}/{}: when all shards are done, join them with\n  softwrist merge --out runs/{} "
@@ -74,6 +84,9 @@ void add_run_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
                           "Run only shard K of N (cases i with i % N == K-1), e.g. $SLURM_ARRAY_TASK_ID/N; "
                           "join the shards with `softwrist merge`");
   run_command->add_flag("--quiet", options->quiet, "No progress output");
+  run_command->add_flag("--resume", options->resume,
+                        "Go on with an interrupted run in --out: keep its complete cases, run the rest");
+  run_command->add_flag("--overwrite", options->overwrite, "Replace a run already in --out");
   run_command->callback([options, &out, &err] { run(*options, out, err); });
 
   auto merge_options = std::make_shared<MergeOptions>();

@@ -56,10 +56,9 @@ int required_column(const io::CsvTable& table, const std::string& name) {
 
 }  // namespace
 
-ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOptions& options) {
+experiments::TrialLog import_table(const io::CsvTable& table, const ImportOptions& options) {
   const KindSpec spec = kind_spec(options.kind);
-  const io::CsvTable table = io::CsvTable::Read(csv);
-  if (table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", csv.string()));
+  if (table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", table.source()));
   std::vector<std::string> names;
   std::vector<int> source_columns;
   for (const std::string& name : spec.required) {
@@ -75,15 +74,21 @@ ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOp
   for (const std::string& h : table.header()) {
     if (std::find(names.begin(), names.end(), h) == names.end()) {
       throw std::runtime_error(fmt::format("{}: column '{}' is not one {} reads (it reads {}, and optionally {})",
-                                           csv.string(), h, options.kind, fmt::join(spec.required, ", "),
+                                           table.source(), h, options.kind, fmt::join(spec.required, ", "),
                                            fmt::join(spec.optional, ", ")));
     }
   }
-  if (fs::exists(out / "trials.csv") && !options.overwrite) {
-    throw std::runtime_error(fmt::format("{}: already holds a log; choose another --out or give --overwrite", out.string()));
+  if (!sim::muscle_from_name(options.muscle)) {
+    throw std::runtime_error(fmt::format("--muscle: '{}' is not flexor, extensor, ulnar or radial", options.muscle));
+  }
+  // Numbers first, against the user's own lines (NaN, empty cells, text where a number belongs).
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == "muscle" || names[i] == "direction") continue;
+    for (std::size_t r = 0; r < table.row_count(); ++r) table.number(r, source_columns[i]);
   }
   // The log speaks the project's column names: a trajectory's angles are what the IMUs measured.
   std::vector<experiments::Column> columns;
+  std::vector<std::string> log_names;
   for (const std::string& name : names) {
     std::string log_name = name == "angle_fe_deg" ? "measured_fe_deg" : name == "angle_ur_deg" ? "measured_ur_deg" : name;
     const auto underscore = log_name.rfind('_');
@@ -91,42 +96,38 @@ ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOp
     const std::string unit = suffix == "deg" ? "deg" : suffix == "kpa" ? "kPa" : suffix == "nm" ? "N m" : suffix == "n" ? "N"
                              : suffix == "s" ? "s" : "";
     columns.push_back({log_name, unit, "imported from " + name});
+    log_names.push_back(log_name);
   }
-  nlohmann::json config = {{"imported_from", fs::absolute(csv).string()}, {"import_kind", options.kind},
-                           {"hand_supported", options.hand_supported}, {"muscle", options.muscle}};
-  if (!sim::muscle_from_name(options.muscle)) {
-    throw std::runtime_error(fmt::format("--muscle: '{}' is not flexor, extensor, ulnar or radial", options.muscle));
-  }
+  const nlohmann::json config = {{"import_kind", options.kind}, {"hand_supported", options.hand_supported},
+                                 {"muscle", options.muscle}};
+  experiments::TrialLog log{.header = {.kind = spec.log_kind, .source = "import", .config = config,
+                                       .columns = columns, .case_count = 1},
+                            .table = table.select(source_columns, log_names)};
+  // What the diagnosis reads from the log is checked here, against the user's lines (times that do not increase,
+  // pressures beyond the regulators, too few rows).
+  (void)trials_from_log(log, "import");
+  return log;
+}
 
-  // Numbers first, against the user's own lines (NaN, empty cells, text where a number belongs).
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == "muscle" || names[i] == "direction") continue;
-    for (std::size_t r = 0; r < table.row_count(); ++r) table.number(r, source_columns[i]);
+ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOptions& options) {
+  kind_spec(options.kind);  // an unknown kind before the file
+  experiments::TrialLog log = import_table(io::CsvTable::Read(csv), options);
+  if (fs::exists(out / "trials.csv") && !options.overwrite) {
+    throw std::runtime_error(fmt::format("{}: already holds a log; choose another --out or give --overwrite", out.string()));
   }
-  // Write to a scratch directory, read it back as the diagnosis will (every cell checked), then move it in place.
+  log.header.config["imported_from"] = fs::absolute(csv).string();
+  // Written to a scratch directory and moved in place, so that a failed write leaves no half log behind.
   const fs::path scratch = out.string() + ".importing";
   fs::remove_all(scratch);
   fs::create_directories(scratch);
   try {
     {
-      experiments::LogWriter writer(scratch, "trials",
-                                    {.kind = spec.log_kind, .source = "import", .config = config, .columns = columns,
-                                     .case_count = 1});
-      for (std::size_t r = 0; r < table.row_count(); ++r) {
+      experiments::LogWriter writer(scratch, "trials", log.header);
+      for (std::size_t r = 0; r < log.table.row_count(); ++r) {
         std::vector<std::string> cells;
-        for (int c : source_columns) cells.push_back(table.cell(r, c));
+        for (std::size_t c = 0; c < log.table.header().size(); ++c) cells.push_back(log.table.cell(r, static_cast<int>(c)));
         writer.write_row(cells);
       }
-    }
-    std::vector<Trial> trials;
-    try {
-      trials = read_trials(scratch / "trials.json", out.filename().string());
-    } catch (const std::exception& e) {
-      // Name the user's file, not the scratch copy: the line numbers are the same (the header is line 1 in both).
-      std::string message = e.what();
-      const std::string scratch_csv = (scratch / "trials.csv").string();
-      if (auto at = message.find(scratch_csv); at != std::string::npos) message.replace(at, scratch_csv.size(), csv.string());
-      throw std::runtime_error(message);
     }
     fs::create_directories(out);
     for (const char* file : {"trials.csv", "trials.json"}) fs::rename(scratch / file, out / file);
@@ -135,7 +136,7 @@ ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOp
     fs::remove_all(scratch);
     throw;
   }
-  return {out / "trials.csv", table.row_count()};
+  return {out / "trials.csv", log.table.row_count()};
 }
 
 }  // namespace softwrist::diagnosis

@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <string>
 
+#include "experiments/trial_log.h"
+#include "io/csv.h"
+
 namespace softwrist::diagnosis {
 
 struct ImportOptions {
@@ -18,6 +21,11 @@ struct ImportResult {
   std::filesystem::path log;  // the written trials.csv
   std::size_t rows = 0;
 };
+
+// The log an import writes, in memory: every required column (with its unit) and every cell of `table` checked,
+// and what the diagnosis reads from it. Throws std::runtime_error naming the file, line and column of the first
+// problem.
+experiments::TrialLog import_table(const io::CsvTable& table, const ImportOptions& options);
 
 // Reads `csv`, checks every required column (with its unit) and every cell, and writes OUT/trials.csv and .json.
 // Throws std::runtime_error naming the file, line and column of the first problem; writes nothing then.

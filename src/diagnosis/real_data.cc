@@ -168,7 +168,10 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
 }  // namespace
 
 std::vector<Trial> read_trials(const fs::path& sidecar, const std::string& name) {
-  const experiments::TrialLog log = experiments::read_log(sidecar.parent_path(), sidecar.stem().string());
+  return trials_from_log(experiments::read_log(sidecar.parent_path(), sidecar.stem().string()), name);
+}
+
+std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name) {
   if (log.table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", log.table.source()));
   Trial base{.name = name, .file = log.table.source()};
   // A table carried the hand (tracking configs, imports with --hand-supported): the replay has no gravity.
@@ -180,7 +183,7 @@ std::vector<Trial> read_trials(const fs::path& sidecar, const std::string& name)
   if (kind == "tracking" || kind == "trajectory") return trajectory_trials(log, base);
   throw std::runtime_error(fmt::format("{}: kind '{}' has no measurements a diagnosis compares (it reads "
                                        "torque_validation, torque_sweep, range_of_motion, tensile, tracking, trajectory)",
-                                       sidecar.string(), kind));
+                                       log.table.source(), kind));
 }
 
 RealData load_real_data(const fs::path& dir) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "control/plant.h"
+#include "experiments/trial_log.h"
 #include "sim/device.h"
 
 namespace softwrist::diagnosis {
@@ -81,5 +82,6 @@ RealData load_real_data(const std::filesystem::path& dir);
 
 // The trials of one log; throws std::runtime_error naming the file, line and column of a problem.
 std::vector<Trial> read_trials(const std::filesystem::path& sidecar, const std::string& name);
+std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name);
 
 }  // namespace softwrist::diagnosis

@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -53,6 +55,79 @@ void write_summary(const std::filesystem::path& out, const nlohmann::json& summa
   if (!file) throw std::runtime_error((out / "summary.json").string() + ": cannot write");
 }
 
+// The cases that have rows in `log`, in the order they appear.
+std::vector<int> cases_in_log(const TrialLog& log) {
+  std::vector<int> cases;
+  for (std::size_t r = 0; r < log.table.row_count(); ++r) {
+    const double value = log.table.number(r, 0);
+    const int index = static_cast<int>(value);
+    if (index != value) throw std::runtime_error(fmt::format("{}: line {}: case '{}' is not a case index",
+                                                             log.table.source(), log.table.line_of(r), value));
+    if (cases.empty() || cases.back() != index) cases.push_back(index);
+  }
+  return cases;
+}
+
+// What an existing run directory holds, and how to go on.
+std::string existing_run_message(const RunOptions& options, const LogHeader& header) {
+  const std::string dir = options.out.string();
+  const std::string command = options.command.empty() ? "softwrist run CONFIG --out " + dir : options.command;
+  if (std::filesystem::exists(options.out / "summary.json")) {
+    return fmt::format("{}: holds a finished run; run it again from the start with\n  {} --overwrite\nor choose "
+                       "another --out", dir, command);
+  }
+  std::string holds;
+  try {
+    const TrialLog log = read_log(options.out, kTrialLogName);
+    holds = fmt::format("an interrupted run: {} of its {} cases have rows, and no summary", cases_in_log(log).size(),
+                        header.case_count);
+  } catch (const std::exception& e) {
+    holds = fmt::format("a trial log that cannot be read ({})", e.what());
+  }
+  return fmt::format("{}: holds {}; resume it (its complete cases are kept) with\n  {} --resume\nor run it again "
+                     "from the start with\n  {} --overwrite", dir, holds, command, command);
+}
+
+// The rows of an interrupted run's complete cases, and where in `cases` the rest begins. Rows are written in case
+// order, so every case before the last one in the log is complete; the last may have been cut short and is run
+// again.
+std::pair<std::vector<Row>, std::size_t> resumable_rows(const RunOptions& options, const LogHeader& header,
+                                                        const std::vector<int>& cases) {
+  const std::string dir = options.out.string();
+  if (std::filesystem::exists(options.out / "summary.json")) {
+    throw std::runtime_error(fmt::format("{}: holds a finished run; nothing to resume (--overwrite runs it again)", dir));
+  }
+  const TrialLog log = read_log(options.out, kTrialLogName);
+  const auto differs = [&](const std::string& what) {
+    return std::runtime_error(fmt::format("{}: its run had another {}; it cannot be resumed with this one (--overwrite "
+                                          "runs this one from the start)", dir, what));
+  };
+  if (log.header.config_hash != header.config_hash) throw differs("config");
+  if (log.header.model_hash != header.model_hash) throw differs("model");
+  if (log.header.shard_index != header.shard_index || log.header.shard_count != header.shard_count) throw differs("shard");
+  if (log.header.columns.size() != header.columns.size()) throw differs("log format");
+  std::map<int, std::size_t> position;
+  for (std::size_t i = 0; i < cases.size(); ++i) position[cases[i]] = i;
+  std::vector<Row> kept;
+  std::size_t last = 0;
+  for (std::size_t r = 0; r < log.table.row_count(); ++r) {
+    const auto found = position.find(static_cast<int>(log.table.number(r, 0)));
+    if (found == position.end() || found->second < last) {
+      throw std::runtime_error(fmt::format("{}: line {}: case {} is out of order; the log was not written by an "
+                                           "interrupted run (--overwrite runs it from the start)",
+                                           log.table.source(), log.table.line_of(r), log.table.cell(r, 0)));
+    }
+    last = found->second;
+  }
+  for (std::size_t r = 0; r < log.table.row_count(); ++r) {
+    if (position.at(static_cast<int>(log.table.number(r, 0))) >= last) break;
+    Row row;
+    for (std::size_t c = 0; c < log.table.header().size(); ++c) row.push_back(log.table.cell(r, static_cast<int>(c)));
+    kept.push_back(std::move(row));
+  }
+  return {std::move(kept), log.table.row_count() == 0 ? 0 : last};
+}
+
 }  // namespace
 
 std::vector<Column> log_columns(const Experiment& experiment) {
@@ -94,8 +169,23 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
   std::vector<int> cases;
   for (int i = options.shard_index - 1; i < header.case_count; i += options.shard_count) cases.push_back(i);
 
+  std::vector<Row> kept_rows;
+  std::size_t first = 0;  // cases[first...] are run here
+  const bool has_log = std::filesystem::exists(options.out / (std::string(kTrialLogName) + ".json"));
+  if (has_log && options.existing == ExistingRun::kRefuse) {
+    throw std::runtime_error(existing_run_message(options, header));
+  }
+  if (options.existing == ExistingRun::kResume) {
+    if (!has_log) {
+      throw std::runtime_error(fmt::format("{}: holds no trial log to resume; run without --resume", options.out.string()));
+    }
+    std::tie(kept_rows, first) = resumable_rows(options, header, cases);
+  }
   std::filesystem::remove(options.out / "summary.json");  // a stale summary must not outlive a new run
-  LogWriter writer(options.out, kTrialLogName, header);
+  const auto writer = options.existing == ExistingRun::kResume
+                          ? std::make_unique<LogWriter>(options.out, kTrialLogName, header, kept_rows)
+                          : std::make_unique<LogWriter>(options.out, kTrialLogName, header);
+  cases.erase(cases.begin(), cases.begin() + static_cast<std::ptrdiff_t>(first));
   // Cases finish out of order on several threads; rows are written in case order as soon as all earlier cases
   // are in, so the file is the same for any number of threads and holds every finished case but a few.
   std::mutex mutex;
@@ -111,7 +201,7 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
         while (!pending.empty() && pending.begin()->first == static_cast<int>(next_to_write)) {
           for (auto& row : pending.begin()->second) {
             row.insert(row.begin(), std::to_string(cases[next_to_write]));
-            writer.write_row(row);
+            writer->write_row(row);
           }
           pending.erase(pending.begin());
           ++next_to_write;
@@ -119,7 +209,9 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
       },
       [&](int done) { progress.update(done); });
 
-  RunResult result{.cases_run = static_cast<int>(cases.size()), .complete = options.shard_count == 1};
+  RunResult result{.cases_run = static_cast<int>(cases.size()),
+                   .cases_resumed = static_cast<int>(first),
+                   .complete = options.shard_count == 1};
   if (result.complete) result.summary = summarize_run(*experiment, options.out, header);
   return result;
 }

@@ -19,15 +19,26 @@ namespace softwrist::experiments {
 
 inline constexpr const char* kTrialLogName = "trials";
 
+// What to do with a run directory that already holds a trial log.
+enum class ExistingRun {
+  kRefuse,     // an error that says what the directory holds and the commands that resume or re-run it
+  kOverwrite,  // start again from the first case
+  kResume,     // an interrupted run (killed, say): keep its complete cases and run the rest; the log ends as an
+               // uninterrupted run's would (each case's random stream depends only on the seed and its index)
+};
+
 struct RunOptions {
   std::filesystem::path out;
+  ExistingRun existing = ExistingRun::kRefuse;
+  std::string command;  // how the user ran it ("softwrist run CONFIG --out DIR"), for the messages
   int jobs = 1;
   int shard_index = 1, shard_count = 1;
   std::ostream* progress = nullptr;  // progress bar (on a terminal) or progress lines; none when null
 };
 
 struct RunResult {
-  int cases_run = 0;
+  int cases_run = 0;      // in this process
+  int cases_resumed = 0;  // kept from the interrupted run
   bool complete = false;  // all cases of the experiment are in this directory's log
   nlohmann::json summary;  // when complete
 };

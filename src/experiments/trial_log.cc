@@ -1,5 +1,6 @@
 #include "experiments/trial_log.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -76,21 +77,55 @@ std::filesystem::path csv_path_in_new_dir(const std::filesystem::path& dir, cons
   return dir / (name + ".csv");
 }
 
-}  // namespace
-
-LogWriter::LogWriter(const std::filesystem::path& dir, const std::string& name, const LogHeader& header)
-    : csv_(csv_path_in_new_dir(dir, name), column_names(header)) {
+void write_sidecar(const std::filesystem::path& dir, const std::string& name, const LogHeader& header) {
   const auto sidecar_path = dir / (name + ".json");
   std::ofstream sidecar(sidecar_path);
   sidecar << to_json(header).dump(2) << '\n';
   if (!sidecar) throw std::runtime_error(sidecar_path.string() + ": cannot write");
 }
 
+// The kept rows go to a scratch file renamed over the log, so that a kill during the rewrite loses nothing.
+std::filesystem::path rewrite_kept_rows(const std::filesystem::path& dir, const std::string& name,
+                                        const LogHeader& header,
+                                        const std::vector<std::vector<std::string>>& kept_rows) {
+  const auto path = csv_path_in_new_dir(dir, name);
+  const auto scratch = dir / (name + ".csv.resuming");
+  {
+    io::CsvWriter kept(scratch, column_names(header));
+    for (const auto& row : kept_rows) kept.write_row(row);
+  }
+  std::filesystem::rename(scratch, path);
+  return path;
+}
+
+}  // namespace
+
+LogWriter::LogWriter(const std::filesystem::path& dir, const std::string& name, const LogHeader& header)
+    : csv_(csv_path_in_new_dir(dir, name), column_names(header)) {
+  write_sidecar(dir, name, header);
+}
+
+LogWriter::LogWriter(const std::filesystem::path& dir, const std::string& name, const LogHeader& header,
+                     const std::vector<std::vector<std::string>>& kept_rows)
+    : csv_(rewrite_kept_rows(dir, name, header, kept_rows), column_names(header), io::CsvWriter::Append{}) {
+  write_sidecar(dir, name, header);
+}
+
 TrialLog read_log(const std::filesystem::path& dir, const std::string& name) {
   const auto sidecar_path = dir / (name + ".json");
   const std::string source = sidecar_path.string();
-  TrialLog log{.header = log_header_from_json(io::parse_json(io::read_text_file(sidecar_path), source), source),
-               .table = io::CsvTable::Read(dir / (name + ".csv"))};
+  LogHeader header = log_header_from_json(io::parse_json(io::read_text_file(sidecar_path), source), source);
+  const auto csv_path = dir / (name + ".csv");
+  std::string text = io::read_text_file(csv_path);
+  int unfinished_line = 0;
+  if (!text.empty() && text.back() != '\n') {
+    unfinished_line = 1 + static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+    const auto last_newline = text.rfind('\n');
+    text.erase(last_newline == std::string::npos ? 0 : last_newline + 1);
+  }
+  TrialLog log{.header = std::move(header),
+               .table = io::CsvTable::Parse(text, csv_path.string()),
+               .unfinished_line = unfinished_line};
   if (log.table.header() != column_names(log.header)) {
     throw std::runtime_error((dir / (name + ".csv")).string() + ": columns differ from the sidecar's " + source);
   }

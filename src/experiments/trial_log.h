@@ -46,6 +46,10 @@ LogHeader log_header_from_json(const nlohmann::json& sidecar, const std::string&
 class LogWriter {
  public:
   LogWriter(const std::filesystem::path& dir, const std::string& name, const LogHeader& header);
+  // Resumes a log: <dir>/<name>.csv is replaced, atomically, by the header and `kept_rows` (the complete cases of
+  // an interrupted run), and rows are appended after them.
+  LogWriter(const std::filesystem::path& dir, const std::string& name, const LogHeader& header,
+            const std::vector<std::vector<std::string>>& kept_rows);
   void write_row(const std::vector<std::string>& cells) { csv_.write_row(cells); }
   const std::filesystem::path& csv_path() const { return csv_.path(); }
 
@@ -56,6 +60,9 @@ class LogWriter {
 struct TrialLog {
   LogHeader header;
   io::CsvTable table;
+  // The line of a last row cut short by a killed writer (no newline after it), which is left out; 0 when none.
+  // Every row before it is whole: the writer flushes row by row.
+  int unfinished_line = 0;
 };
 
 // Reads <dir>/<name>.json and .csv and checks that the CSV's header is the sidecar's column list.

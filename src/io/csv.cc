@@ -109,10 +109,29 @@ double CsvTable::number(std::size_t row, int column_index) const {
   return value;
 }
 
+CsvTable CsvTable::select(const std::vector<int>& columns, std::vector<std::string> names) const {
+  if (columns.size() != names.size()) throw std::logic_error(source_ + ": select: a name for each column");
+  CsvTable table;
+  table.source_ = source_;
+  table.header_ = std::move(names);
+  table.lines_ = lines_;
+  for (const auto& row : rows_) {
+    std::vector<std::string> cells;
+    for (int c : columns) cells.push_back(row.at(static_cast<std::size_t>(c)));
+    table.rows_.push_back(std::move(cells));
+  }
+  return table;
+}
+
 CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string> header)
     : path_(path), columns_(header.size()), file_(path) {
   if (!file_) throw std::runtime_error(path.string() + ": cannot create");
   write_row(header);
+}
+
+CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string> header, Append)
+    : path_(path), columns_(header.size()), file_(path, std::ios::app) {
+  if (!file_) throw std::runtime_error(path.string() + ": cannot append");
 }
 
 void CsvWriter::write_row(const std::vector<std::string>& cells) {

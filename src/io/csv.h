@@ -31,6 +31,8 @@ class CsvTable {
   const std::string& cell(std::size_t row, int column) const { return rows_[row][column]; }
   // The cell as a finite number; throws "<source>:<line>: <column>: <problem>: '<cell>'".
   double number(std::size_t row, int column) const;
+  // These columns, in this order, under new names: the same source, rows and line numbers (for messages).
+  CsvTable select(const std::vector<int>& columns, std::vector<std::string> names) const;
 
  private:
   std::string source_;
@@ -42,7 +44,11 @@ class CsvTable {
 // Writes a CSV row by row, flushing each row so that a killed process leaves every written row readable.
 class CsvWriter {
  public:
+  // Creates (or truncates) `path` and writes the header row.
   CsvWriter(const std::filesystem::path& path, std::vector<std::string> header);
+  // Appends to `path`, whose complete rows have `header`'s columns (a resumed run): writes no header.
+  struct Append {};
+  CsvWriter(const std::filesystem::path& path, std::vector<std::string> header, Append);
   void write_row(const std::vector<std::string>& cells);
   const std::filesystem::path& path() const { return path_; }
 
