@@ -41,9 +41,9 @@ sim::MuscleIndex muscle_cell(const io::CsvTable& table, std::size_t row, int col
 
 int integer_cell(const io::CsvTable& table, std::size_t row, int column) {
   if (column < 0) return 0;
-  const double value = table.number(row, column);
-  if (value != static_cast<int>(value) || value < 0) fail_at(table, row, fmt::format("{}: must be a count from 0", table.header()[column]));
-  return static_cast<int>(value);
+  const int value = table.integer(row, column);
+  if (value < 0) fail_at(table, row, fmt::format("{}: must be a count from 0", table.header()[column]));
+  return value;
 }
 
 // A pressure cell [kPa] as pascals; the regulator range is checked against the device later, this only refuses

@@ -117,7 +117,7 @@ nlohmann::json DesignOptimization::summarize(const io::CsvTable& log, const std:
     solutions.push_back({.placement = {cm_to_m(log.number(row, c_p[0])), cm_to_m(log.number(row, c_p[1])),
                                        cm_to_m(log.number(row, c_p[2])), cm_to_m(log.number(row, c_p[3]))},
                          .objective = log.number(row, c_objective),
-                         .evaluations = static_cast<int>(log.number(row, c_evaluations))});
+                         .evaluations = log.integer(row, c_evaluations)});
   }
   const optimize::DesignResult result = optimize::best_of(solutions);
   const optimize::DesignEvaluator evaluator(problem);

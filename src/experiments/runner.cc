@@ -59,10 +59,7 @@ void write_summary(const std::filesystem::path& out, const nlohmann::json& summa
 std::vector<int> cases_in_log(const TrialLog& log) {
   std::vector<int> cases;
   for (std::size_t r = 0; r < log.table.row_count(); ++r) {
-    const double value = log.table.number(r, 0);
-    const int index = static_cast<int>(value);
-    if (index != value) throw std::runtime_error(fmt::format("{}: line {}: case '{}' is not a case index",
-                                                             log.table.source(), log.table.line_of(r), value));
+    const int index = log.table.integer(r, 0);
     if (cases.empty() || cases.back() != index) cases.push_back(index);
   }
   return cases;
@@ -111,7 +108,7 @@ std::pair<std::vector<Row>, std::size_t> resumable_rows(const RunOptions& option
   std::vector<Row> kept;
   std::size_t last = 0;
   for (std::size_t r = 0; r < log.table.row_count(); ++r) {
-    const auto found = position.find(static_cast<int>(log.table.number(r, 0)));
+    const auto found = position.find(log.table.integer(r, 0));
     if (found == position.end() || found->second < last) {
       throw std::runtime_error(fmt::format("{}: line {}: case {} is out of order; the log was not written by an "
                                            "interrupted run (--overwrite runs it from the start)",
@@ -120,7 +117,7 @@ std::pair<std::vector<Row>, std::size_t> resumable_rows(const RunOptions& option
     last = found->second;
   }
   for (std::size_t r = 0; r < log.table.row_count(); ++r) {
-    if (position.at(static_cast<int>(log.table.number(r, 0))) >= last) break;
+    if (position.at(log.table.integer(r, 0)) >= last) break;
     Row row;
     for (std::size_t c = 0; c < log.table.header().size(); ++c) row.push_back(log.table.cell(r, static_cast<int>(c)));
     kept.push_back(std::move(row));
@@ -236,9 +233,8 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
     const int c_case = table.column("case");
     std::set<int> seen_here;
     for (std::size_t row = 0; row < table.row_count(); ++row) {
-      const double value = table.number(row, c_case);
-      const int index = static_cast<int>(value);
-      if (value != index || index < 0 || index >= first.case_count) {
+      const int index = table.integer(row, c_case);
+      if (index < 0 || index >= first.case_count) {
         throw std::runtime_error(fmt::format("{}:{}: case: {} is not a case of this experiment", table.source(),
                                              table.line_of(row), table.cell(row, c_case)));
       }

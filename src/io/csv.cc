@@ -109,6 +109,16 @@ double CsvTable::number(std::size_t row, int column_index) const {
   return value;
 }
 
+int CsvTable::integer(std::size_t row, int column_index) const {
+  const double value = number(row, column_index);
+  // Checked before the cast: a double beyond int's range cast to int is undefined (found by the csv_import fuzzer).
+  if (!(value >= -2147483648.0 && value <= 2147483647.0) || value != std::floor(value)) {
+    throw error_at(source_, lines_[row],
+                   header_[column_index] + ": not a whole number in int's range: '" + rows_[row][column_index] + "'");
+  }
+  return static_cast<int>(value);
+}
+
 CsvTable CsvTable::select(const std::vector<int>& columns, std::vector<std::string> names) const {
   if (columns.size() != names.size()) throw std::logic_error(source_ + ": select: a name for each column");
   CsvTable table;

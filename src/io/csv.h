@@ -31,6 +31,8 @@ class CsvTable {
   const std::string& cell(std::size_t row, int column) const { return rows_[row][column]; }
   // The cell as a finite number; throws "<source>:<line>: <column>: <problem>: '<cell>'".
   double number(std::size_t row, int column) const;
+  // The cell as a whole number that fits an int (a case index, a count); throws as number() does.
+  int integer(std::size_t row, int column) const;
   // These columns, in this order, under new names: the same source, rows and line numbers (for messages).
   CsvTable select(const std::vector<int>& columns, std::vector<std::string> names) const;
 

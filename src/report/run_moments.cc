@@ -119,7 +119,7 @@ TrackingCase tracking_case(const io::CsvTable& t, int case_index) {
     if (t.number(row, c_case) != case_index) continue;
     if (result.poses.empty()) {
       result.controller = t.cell(row, c_controller);
-      result.repetition = static_cast<int>(t.number(row, c_rep));
+      result.repetition = t.integer(row, c_rep);
     }
     TimedPose p{t.number(row, c_t), {deg_to_rad(t.number(row, c_fe)), deg_to_rad(t.number(row, c_ur)), {}}};
     for (std::size_t i = 0; i < 4; ++i) p.pose.pressures_kpa[i] = t.number(row, c_pressure[i]);
