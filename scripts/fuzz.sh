@@ -4,7 +4,7 @@
 # the crashes of each target and writes build/fuzz/report.json; exits 1 when any target crashed.
 #   bash scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]     (default: 60 s each, every target)
 # The seed corpus (tests/fuzz/corpus/TARGET) is only read; what the fuzzer adds goes to build/fuzz/corpus/TARGET and
-# is kept between runs. A crashing input is saved to build/fuzz/crashes/TARGET/: copy it to
+# is kept between runs. A crashing input is saved to build/fuzz/crashes/TARGET/ (cleared at the next run): copy it to
 # tests/fuzz/regressions/TARGET/ so that the tests replay it, and fix the code (tests/fuzz/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,6 +39,7 @@ report="["
 printf '%-18s %12s %10s %8s %s\n' target executions exec/s crashes seconds
 for target in "${targets[@]}"; do
   corpus="$build/corpus/$target" crashes="$build/crashes/$target" log="$build/logs/$target.log"
+  rm -rf "$crashes"  # the last run's; the ones worth keeping are in tests/fuzz/regressions
   mkdir -p "$corpus" "$crashes" "$(dirname "$log")"
   start=$(date +%s.%N)
   status=0

@@ -7,6 +7,7 @@
 
 #include "physics/errors.h"
 #include "physics/fpam_force.h"
+#include "physics/plausible_ranges.h"
 #include "physics/units.h"
 
 namespace softwrist::plugin {
@@ -61,6 +62,7 @@ class AttributeReader {
     if (ok_ && !(value > 0.0)) Fail(key, "must be > 0");
     return value;
   }
+
   std::string Text(std::string_view key, std::string_view fallback) {
     return config_.Get(key).value_or(std::string(fallback));
   }
@@ -131,6 +133,7 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
   FpamActuator actuator(std::move(*fpam));
   if (read.Has(kRestLength)) {
     actuator.rest_length_ = read.Positive(kRestLength, 0.0);
+    if (read.ok() && actuator.rest_length_ > physics::plausible::kMaxLength) read.Fail(kRestLength, "must be at most 10 m");
   } else {
     read.Fail(kRestLength, "missing");
   }
@@ -144,7 +147,14 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
     if (actuator.mount_stiffness_.hand == 0.0) read.Fail(kHandStiffness, "must be given and non-zero");
   }
   actuator.max_pressure_kpa_ = read.Positive(kMaxPressureKpa, actuator.max_pressure_kpa_);
+  if (read.ok() && actuator.max_pressure_kpa_ > units::pa_to_kpa(physics::plausible::kMaxPressure)) {
+    read.Fail(kMaxPressureKpa, "must be at most 1000 (kPa)");
+  }
   actuator.time_constant_ = read.Positive(kTimeConstant, actuator.time_constant_);
+  if (read.ok() && !(actuator.time_constant_ >= physics::plausible::kMinTimeConstant &&
+                     actuator.time_constant_ <= physics::plausible::kMaxTimeConstant)) {
+    read.Fail(kTimeConstant, "must lie in [0.001, 100] (s; MuJoCo integrates the regulator in 1 ms steps)");
+  }
   if (!read.ok()) return std::nullopt;
   return actuator;
 }

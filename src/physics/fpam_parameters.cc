@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "physics/errors.h"
+#include "physics/plausible_ranges.h"
 
 namespace softwrist::physics {
 
@@ -13,7 +14,11 @@ double max_contraction_upper_bound() { return 1.0 - 1.0 / std::sqrt(3.0); }
 
 void validate(const FabricProperties& fabric) {
   require_positive("elastic_modulus E [Pa]", fabric.elastic_modulus);
+  require(fabric.elastic_modulus <= plausible::kMaxElasticModulus, "elastic_modulus E [Pa]", fabric.elastic_modulus,
+          "must be at most 1e12 (no fabric is stiffer than steel)");
   require_positive("thickness t [m]", fabric.thickness);
+  require(fabric.thickness <= plausible::kMaxThickness, "thickness t [m]", fabric.thickness,
+          "must be at most 0.01 (a fabric wall)");
   require(std::isfinite(fabric.elastic_onset_contraction) && fabric.elastic_onset_contraction >= 0.0 &&
               fabric.elastic_onset_contraction < 1.0,
           "elastic_onset_contraction epsilon_0", fabric.elastic_onset_contraction, "must lie in [0, 1)");
@@ -21,6 +26,7 @@ void validate(const FabricProperties& fabric) {
 
 void validate(const FpamCoefficients& coefficients) {
   require_positive("radius r0 [m]", coefficients.radius);
+  require(coefficients.radius <= plausible::kMaxRadius, "radius r0 [m]", coefficients.radius, "must be at most 1");
   const double eps = coefficients.max_contraction;
   require(std::isfinite(eps) && eps > 0.0 && eps < 1.0, "max_contraction eps_max", eps, "must lie in (0, 1)");
   require(eps < max_contraction_upper_bound(), "max_contraction eps_max", eps,

@@ -2,12 +2,14 @@
 
 #include "physics/errors.h"
 #include "physics/fpam_force.h"
+#include "physics/plausible_ranges.h"
 
 namespace softwrist::physics {
 
 void validate(const Muscle& muscle) {
   validate(muscle.placement, muscle.wrist_radius);
   require_positive("rest_length L0 [m]", muscle.rest_length);
+  require(muscle.rest_length <= plausible::kMaxLength, "rest_length L0 [m]", muscle.rest_length, "must be at most 10");
   if (muscle.stretch_mode != StretchMode::kNone) validate(muscle.mount_stiffness);
 }
 

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "physics/errors.h"
+#include "physics/plausible_ranges.h"
 
 namespace softwrist::physics {
 
@@ -15,6 +16,11 @@ void validate(const Placement& placement, double wrist_radius) {
   require_positive("placement d2 [m]", placement.d2);
   require_non_negative("placement w2 [m]", placement.w2);
   require_positive("wrist_radius r_w [m]", wrist_radius);
+  for (const auto& [name, value] : {std::pair{"placement d1 [m]", placement.d1}, {"placement w1 [m]", placement.w1},
+                                    {"placement d2 [m]", placement.d2}, {"placement w2 [m]", placement.w2},
+                                    {"wrist_radius r_w [m]", wrist_radius}}) {
+    require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
+  }
   require(std::hypot(placement.d1, placement.w1) > wrist_radius, "forearm mount distance R1 [m]",
           std::hypot(placement.d1, placement.w1), "must exceed the wrist radius r_w (mount outside the wrist)");
   require(std::hypot(placement.d2, placement.w2) > wrist_radius, "hand mount distance R2 [m]",

@@ -9,6 +9,7 @@
 
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
+#include "physics/plausible_ranges.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 
@@ -140,7 +141,14 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   if (top.has("regulator")) {
     Reader r = top.child("regulator");
     device.regulator.max_pressure = units::kpa_to_pa(r.positive("max_pressure_kpa", 137.0));
+    if (device.regulator.max_pressure > physics::plausible::kMaxPressure) {
+      r.fail("max_pressure_kpa", "must be at most 1000 (10 bar, far above a fabric muscle's burst pressure)");
+    }
     device.regulator.time_constant = r.positive("time_constant_s", device.regulator.time_constant);
+    if (device.regulator.time_constant < physics::plausible::kMinTimeConstant ||
+        device.regulator.time_constant > physics::plausible::kMaxTimeConstant) {
+      r.fail("time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
+    }
     r.finish();
   }
   if (top.has("wrist")) {

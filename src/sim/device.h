@@ -82,7 +82,8 @@ DeviceDescription rom_device();
 // Reads a placement file. Errors throw std::runtime_error("<file>: <field>: <problem>").
 DeviceDescription load_device(const std::filesystem::path& path);
 DeviceDescription parse_device(const std::string& json_text, const std::string& source_name);
-// The placement file that load_device reads back to the same description.
+// The placement file that load_device reads back to the same description (to within the rounding of the cm <-> m
+// conversions, ~1e-16 relative).
 std::string device_to_json(const DeviceDescription& device);
 
 }  // namespace softwrist::sim
