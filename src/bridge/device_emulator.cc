@@ -127,7 +127,17 @@ EmulatorStats DeviceEmulator::stats() const {
   return stats_;
 }
 
-void DeviceEmulator::serve(SerialPort link_in, const std::atomic<bool>& stop) {
+void DeviceEmulator::serve(SerialPort link, const std::atomic<bool>& stop) {
+  try {
+    serve_device(std::move(link), stop);
+  } catch (const std::exception& e) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.stopped_by = e.what();
+    failed_ = true;
+  }
+}
+
+void DeviceEmulator::serve_device(SerialPort link_in, const std::atomic<bool>& stop) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point epoch = Clock::now();
   {

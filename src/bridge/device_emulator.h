@@ -81,6 +81,7 @@ struct EmulatorStats {
   std::uint32_t fault_injected_ms[3] = {0, 0, 0};  // imu stale, garbage, link cut; 0: not injected
   std::vector<VentEvent> vents;
   std::chrono::steady_clock::time_point epoch;  // serve()'s start: the device clock's zero
+  std::string stopped_by;  // why serve() stopped before it was asked to (the simulation failed); empty otherwise
 };
 
 class DeviceEmulator {
@@ -91,21 +92,27 @@ class DeviceEmulator {
   DeviceEmulator& operator=(const DeviceEmulator&) = delete;
 
   // Serves `link` in real time until `stop` is set. The link may go (cut, or the host gone): the device keeps
-  // running (its watchdog vents) and, for a host that went, listens for the next one.
+  // running (its watchdog vents) and, for a host that went, listens for the next one. Should the simulated exosuit
+  // fail (an unstable simulation), it stops, closing the link (the host sees it lost and vents), with the reason
+  // in stats().stopped_by.
   void serve(SerialPort link, const std::atomic<bool>& stop);
   // A copy, safe to take while serve() runs.
   EmulatorStats stats() const;
+  // serve() stopped on its own (stats().stopped_by says why).
+  bool failed() const { return failed_.load(); }
   // Called from serve()'s thread as each packet from the host is accepted (for the latency benchmark). Set before
   // serve() starts.
   void set_packet_observer(std::function<void(char type, std::uint16_t seq)> observer) { observer_ = std::move(observer); }
 
  private:
   struct Device;
+  void serve_device(SerialPort link, const std::atomic<bool>& stop);
   EmulatorConfig config_;
   std::unique_ptr<Device> device_;
   mutable std::mutex mutex_;
   EmulatorStats stats_;
   std::function<void(char, std::uint16_t)> observer_;
+  std::atomic<bool> failed_{false};
 };
 
 }  // namespace softwrist::bridge

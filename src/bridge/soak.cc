@@ -171,6 +171,7 @@ SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorC
   for (const SoakTrial& t : result.trials) {
     if (!t.problem.empty()) result.failures.push_back(fmt::format("{}: its log: {}", t.dir.string(), t.problem));
   }
+  if (!result.emulator.stopped_by.empty()) result.failures.push_back("the emulator stopped: " + result.emulator.stopped_by);
   if (result.emulator.max_output_dkpa > emulator_config.limits.max_dkpa) {
     result.failures.push_back(fmt::format("the regulators were given {} dkPa, above the limit {}",
                                           result.emulator.max_output_dkpa, emulator_config.limits.max_dkpa));

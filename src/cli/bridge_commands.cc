@@ -62,7 +62,7 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
   std::atomic<bool> stop{false};
   std::thread server([&] { emulator.serve(std::move(pty.master), stop); });
   const auto start = std::chrono::steady_clock::now();
-  while (!signals.requested.load() &&
+  while (!signals.requested.load() && !emulator.failed() &&
          (options.duration_s <= 0.0 ||
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < options.duration_s)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -74,6 +74,7 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
   out << fmt::format("device emulator stopped: {} sessions, {} packets accepted, {} rejected, {} data packets sent, "
                      "{} bytes dropped, {} vents\n",
                      s.sessions, s.packets_accepted, s.packets_rejected, s.data_sent, s.bytes_dropped, s.vents.size());
+  if (!s.stopped_by.empty()) throw std::runtime_error("device emulator: the simulated exosuit failed: " + s.stopped_by);
 }
 
 void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {

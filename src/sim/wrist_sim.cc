@@ -1,8 +1,25 @@
 #include "sim/wrist_sim.h"
 
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace softwrist::sim {
+namespace {
+
+// MuJoCo resets the state when an acceleration, velocity or position turns NaN, Inf or huge, warns, and carries on
+// from there: every result after that would be silently wrong, so the simulation stops with the reason instead.
+void check_stable(const mjData* d) {
+  for (const auto& [warning, what] : {std::pair{mjWARN_BADQACC, "acceleration"}, {mjWARN_BADQVEL, "velocity"},
+                                      {mjWARN_BADQPOS, "position"}}) {
+    if (d->warning[warning].number > 0) {
+      throw std::runtime_error(std::string("the simulation became unstable: NaN, Inf or a huge value in a joint's ") +
+                               what + " (a device too stiff or too strong for the model's time step?)");
+    }
+  }
+}
+
+}  // namespace
 
 WristJoint joint_of(MuscleIndex muscle) {
   return muscle == kFlexor || muscle == kExtensor ? WristJoint::kFlexionExtension : WristJoint::kUlnarRadial;
@@ -32,7 +49,10 @@ void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa)
 
 void WristSim::run(double duration) {
   const double end = data_->time + duration - 0.5 * model_->opt.timestep;
-  while (data_->time < end) mj_step(model_.get(), data_.get());
+  while (data_->time < end) {
+    mj_step(model_.get(), data_.get());
+    check_stable(data_.get());
+  }
 }
 
 void WristSim::hold(double fe, double ur) {
@@ -47,6 +67,7 @@ void WristSim::run_held(double duration, double fe, double ur) {
   while (data_->time < end) {
     hold(fe, ur);
     mj_step(model_.get(), data_.get());
+    check_stable(data_.get());
   }
   hold(fe, ur);
   mj_forward(model_.get(), data_.get());

@@ -24,7 +24,8 @@ class WristSim {
   void reset();
   // Commanded pressures [kPa] of flexor, extensor, ulnar, radial (the regulators follow with their lag).
   void command_pressures_kpa(const std::array<double, 4>& pressures_kpa);
-  // Advances `duration` [s] of free motion.
+  // Advances `duration` [s] of free motion. Throws std::runtime_error when MuJoCo finds the state unstable (it would
+  // reset it and go on).
   void run(double duration);
   // Advances `duration` [s] with the wrist held at (fe, ur) [rad], as on the torque rig: the regulators fill the
   // muscles while the joints stay put.

@@ -14,7 +14,9 @@
 
 #include <mujoco/mujoco.h>
 
+#include "fpam_actuator.h"
 #include "fuzz_check.h"
+#include "plugin_config.h"
 
 extern "C" int softwrist_plugin_register();
 extern "C" int softwrist_plugin_attach(const mjModel* m, char* error, int error_size);
@@ -65,6 +67,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // keep this target at ~250 inputs/s).
   static const bool registered = softwrist_plugin_register() == 0;
   FUZZ_CHECK(registered);
+  // MuJoCo's warnings (an unstable simulation, which it detects and resets) would go to MUJOCO_LOG.TXT: the state
+  // is checked below instead.
+  mju_user_warning = [](const char*) {};
   static mjModel* const m = load(one_muscle_model(std::string(kMaxConfig, 'x')));
   FUZZ_CHECK(m != nullptr && m->ntext == 1 && m->text_size[0] == static_cast<int>(kMaxConfig) + 1);
   char* text = m->text_data + m->text_adr[0];
@@ -79,10 +84,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   if (attached == 1) {
+    // The force law MuJoCo calls: finite and non-negative at any tendon length and pressure (inputs outside are
+    // clamped); the pressure rate finite.
+    std::string message;
+    const auto parsed = softwrist::plugin::PluginConfig::Parse(text, &message);
+    FUZZ_CHECK(parsed.has_value());
+    const auto fpam = softwrist::plugin::FpamActuator::Create(*parsed, "fpam", &message);
+    FUZZ_CHECK(fpam.has_value(), "attached, yet Create refuses it: %s", message.c_str());
+    for (double tendon_length : {0.0, 1e-3, 0.05, 0.2, 0.3, 0.5, 2.0, 20.0}) {
+      for (double kpa : {0.0, 10.0, 68.0, 137.0, 1000.0}) {
+        const double force = fpam->Force(tendon_length, kpa);
+        FUZZ_CHECK(std::isfinite(force) && force >= 0.0, "force %g at %g m, %g kPa", force, tendon_length, kpa);
+        FUZZ_CHECK(std::isfinite(fpam->PressureRate(kpa, 0.5 * kpa)));
+      }
+    }
     mjData* d = mj_makeData(m);
     d->ctrl[0] = 137.0;
     for (int step = 0; step < 10; ++step) mj_step(m, d);
-    FUZZ_CHECK(std::isfinite(d->actuator_force[0]) && std::isfinite(d->qpos[0]) && std::isfinite(d->act[0]),
+    // Finite, or, for parameters too stiff for the 1 ms step, detected by MuJoCo (which sim::WristSim turns into
+    // an error); never a NaN force passed on unnoticed.
+    const bool unstable = d->warning[mjWARN_BADQACC].number > 0 || d->warning[mjWARN_BADQVEL].number > 0 ||
+                          d->warning[mjWARN_BADQPOS].number > 0;
+    FUZZ_CHECK(unstable || (std::isfinite(d->actuator_force[0]) && std::isfinite(d->qpos[0]) && std::isfinite(d->act[0])),
                "force %g, angle %g, pressure %g", d->actuator_force[0], d->qpos[0], d->act[0]);
     mj_deleteData(d);
   }

@@ -47,6 +47,20 @@ TEST(CsvTable, BadInputIsNamedByFileLineAndColumn) {
   EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2x\n"), HasSubstr("not a number"));
 }
 
+// Counts and case indices: whole numbers within int's range, checked before any cast (a count of 2e20 was cast to
+// int, undefined behaviour, until the csv_import fuzzer found it).
+TEST(CsvTable, IntegerCellsAreWholeAndWithinIntsRange) {
+  const CsvTable table = CsvTable::Parse("n\n3\n-2\n2147483647\n2147483648\n1.5\n2e20\n", "counts.csv");
+  EXPECT_EQ(table.integer(0, 0), 3);
+  EXPECT_EQ(table.integer(1, 0), -2);
+  EXPECT_EQ(table.integer(2, 0), 2147483647);
+  for (std::size_t row : {3u, 4u, 5u}) {
+    EXPECT_THAT([&] { (void)table.integer(row, 0); },
+                ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("counts.csv:" + std::to_string(row + 2) +
+                                                                       ": n: not a whole number in int's range")));
+  }
+}
+
 TEST(CsvWriter, RoundTripsNumbersExactly) {
   const auto path = std::filesystem::temp_directory_path() / "softwrist_csv_test.csv";
   {
