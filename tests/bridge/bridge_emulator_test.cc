@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <random>
 #include <thread>
 
 #include <gmock/gmock.h>
@@ -20,6 +21,8 @@
 #include "control/tracking_loop.h"
 #include "experiments/runner.h"
 #include "io/text_file.h"
+#include "io/subprocess.h"
+#include "support/kill_process.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::bridge {
@@ -57,6 +60,7 @@ class EmulatedDevice {
     return link;
   }
   EmulatorStats stats() const { return emulator_.stats(); }
+  const std::string& path() const { return path_; }
   // Lets the device run on for `ms` (its watchdog acts in its own time).
   static void wait_ms(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
 
@@ -348,6 +352,41 @@ TEST_F(BridgeTrial, AFaultEndsTheTrialVentedWithAReadableLog) {
   // A second trial into the same directory is refused: a measured log is never overwritten by accident.
   EXPECT_THAT([&] { run_trial(short_planar_config(dir_), plant, {.out = dir_ / "hw"}); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("holds a trial log already")));
+}
+
+// `softwrist trial` killed (SIGKILL) at a random moment of its first run: the device vents on its own within 50 ms
+// of the last command, every row written before the kill reads back, and running into the directory again says
+// how to re-run.
+TEST_F(BridgeTrial, AKilledTrialLeavesTheDeviceVentedAndItsRowsReadable) {
+  EmulatedDevice device(nominal_config());
+  const std::filesystem::path config = dir_ / "short_planar.json";
+  std::ofstream(config) << short_planar_config(dir_).json.dump();
+  const std::vector<std::string> trial = {SOFTWRIST_BINARY, "trial", config.string(), "--device", device.path(),
+                                          "--out", (dir_ / "hw").string(), "--rest-s", "0.5"};
+  // During the first run's steps: after the start, the 0.5 s rest and the 1 s settling, before its 9 s end.
+  std::mt19937 rng(std::random_device{}());
+  const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(2500, 7000)(rng));
+  SCOPED_TRACE("killed after " + std::to_string(delay.count()) + " ms");
+  ASSERT_TRUE(testing::start_and_kill(trial, delay));
+  EmulatedDevice::wait_ms(100);
+
+  const EmulatorStats stats = device.stats();
+  ASSERT_FALSE(stats.vents.empty());
+  const VentEvent& last = stats.vents.back();
+  EXPECT_EQ(last.cause, "watchdog: no command");
+  EXPECT_LE(last.t_ms - last.cause_ms, kVentBoundMs);
+
+  const experiments::TrialLog log = experiments::read_log(dir_ / "hw", "trials");
+  EXPECT_GT(log.table.row_count(), 50u);
+  for (std::size_t r = 0; r < log.table.row_count(); ++r) {
+    for (std::size_t c = 0; c < log.table.header().size(); ++c) {
+      if (log.table.header()[c] != "controller") (void)log.table.number(r, static_cast<int>(c));
+    }
+  }
+  const int code = io::run_process(trial, {.stdout_file = dir_ / "again.out", .stderr_file = dir_ / "again.err"});
+  EXPECT_EQ(code, 1);
+  EXPECT_THAT(io::read_text_file(dir_ / "again.err"), HasSubstr("holds a trial log already"));
+  EXPECT_THAT(io::read_text_file(dir_ / "again.err"), HasSubstr("--overwrite"));
 }
 
 TEST(EmulatorConfig, ReadsEffectsAndFaultsAndNamesBadFields) {

@@ -3,22 +3,19 @@
 // the uninterrupted one (the same seed and config give the same numbers).
 
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "experiments/trial_log.h"
 #include "io/subprocess.h"
 #include "io/text_file.h"
+#include "support/kill_process.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::cli {
@@ -47,26 +44,6 @@ class InterruptedRun : public testing::ScratchDirTest {
   std::string read(const std::string& file) { return io::read_text_file(dir_ / file); }
 };
 
-// Starts argv and kills it with SIGKILL after `delay`; returns whether it was still running then.
-bool start_and_kill(const std::vector<std::string>& argv, std::chrono::milliseconds delay) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    if (std::freopen("/dev/null", "w", stdout) == nullptr || std::freopen("/dev/null", "w", stderr) == nullptr) _exit(126);
-    execv(args[0], args.data());
-    _exit(127);
-  }
-  std::this_thread::sleep_for(delay);
-  const bool running = waitpid(pid, nullptr, WNOHANG) == 0;
-  if (running) {
-    kill(pid, SIGKILL);
-    waitpid(pid, nullptr, 0);
-  }
-  return running;
-}
-
 TEST_F(InterruptedRun, KilledRunKeepsItsRowsSaysHowToResumeAndResumesToTheSameNumbers) {
   const fs::path config = write_config();
   const auto start = std::chrono::steady_clock::now();
@@ -86,7 +63,7 @@ TEST_F(InterruptedRun, KilledRunKeepsItsRowsSaysHowToResumeAndResumesToTheSameNu
         std::uniform_int_distribution<long>(whole_ms.count() / 20, whole_ms.count() * 4 / 5)(rng));
     SCOPED_TRACE("killed after " + std::to_string(delay.count()) + " ms of a " + std::to_string(whole_ms.count()) +
                  " ms run");
-    if (!start_and_kill(run_args(config, out), delay)) continue;  // finished first (a fast machine): nothing to test
+    if (!testing::start_and_kill(run_args(config, out), delay)) continue;  // finished first (a fast machine): nothing to test
     if (!fs::exists(out / "trials.json")) continue;               // killed before it wrote anything
     EXPECT_FALSE(fs::exists(out / "summary.json"));
 
