@@ -50,8 +50,6 @@ class FaultRelay {
   // The path the host opens now: a new one after each link cut; empty while the cable is out.
   std::string host_path() const;
   std::vector<InjectedFault> faults() const;
-  long bytes_to_host() const { return bytes_to_host_.load(); }
-  long bytes_to_device() const { return bytes_to_device_.load(); }
 
  private:
   void run();
@@ -61,7 +59,6 @@ class FaultRelay {
   mutable std::mutex mutex_;
   std::string host_path_;
   std::vector<InjectedFault> faults_;
-  std::atomic<long> bytes_to_host_{0}, bytes_to_device_{0};
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
