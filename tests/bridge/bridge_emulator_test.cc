@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <map>
+#include <memory>
 #include <random>
 #include <thread>
 
@@ -158,9 +160,20 @@ class BridgeTrial : public testing::ScratchDirTest {};
 TEST_F(BridgeTrial, MatchesTheSimulatedExperimentWhenTheEmulatorHasNoExtraEffects) {
   const experiments::ExperimentConfig config = short_planar_config(dir_);
   experiments::run_experiment(config, {.out = dir_ / "sim", .jobs = 1});
-  EmulatedDevice device(nominal_config());
-  BridgePlant plant(device.take_link());
-  const TrialResult result = run_trial(config, plant, {.out = dir_ / "hw"});
+  // An 18 s real-time trial: a stall of this process or the emulator's thread beyond the 40 ms watchdog (a busy
+  // shared machine; seen once in CI) ends it vented, the safety rules doing their job. The comparison needs a trial
+  // without one, so such a trial is run once more; any other fault fails at once.
+  std::unique_ptr<EmulatedDevice> device;
+  TrialResult result;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    device = std::make_unique<EmulatedDevice>(nominal_config());
+    BridgePlant plant(device->take_link());
+    result = run_trial(config, plant, {.out = dir_ / "hw", .overwrite = true});
+    const bool stalled = result.fault && (result.fault->find("watchdog") != std::string::npos ||
+                                          result.fault->find("no valid data") != std::string::npos);
+    if (!stalled) break;
+    std::cerr << "attempt " << attempt + 1 << " ended by a real-time stall: " << *result.fault << "\n";
+  }
   ASSERT_FALSE(result.fault) << *result.fault;
   EXPECT_EQ(result.runs_completed, 2);
 
@@ -203,10 +216,10 @@ TEST_F(BridgeTrial, MatchesTheSimulatedExperimentWhenTheEmulatorHasNoExtraEffect
     }
   }
   // Between runs and at the end the device vented on the host's emergency stop, at once.
-  const std::vector<VentEvent> vents = expect_vents_within_bound(device.stats());
+  const std::vector<VentEvent> vents = expect_vents_within_bound(device->stats());
   EXPECT_TRUE(has_vent(vents, "emergency stop") || has_vent(vents, "zero command"));
-  EXPECT_EQ(device.stats().packets_rejected, 0);
-  EXPECT_LE(device.stats().max_output_dkpa, 1370);
+  EXPECT_EQ(device->stats().packets_rejected, 0);
+  EXPECT_LE(device->stats().max_output_dkpa, 1370);
 }
 
 // A controller that asks for 500 kPa half a second in.
