@@ -62,6 +62,10 @@ void FaultRelay::run() {
   std::optional<InjectedFault> active;
   Clock::time_point active_end;
   char buffer[512];
+  // Noise on the line: the bytes in transit replaced by random ones.
+  const auto garble = [&](std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) buffer[i] = static_cast<char>(rng() & 0xFF);
+  };
 
   while (!stop_) {
     const Clock::time_point now = Clock::now();
@@ -99,9 +103,7 @@ void FaultRelay::run() {
         device_vented = (watch.data().flags & wire::kVented) != 0;
       }
     }
-    if (active && active->kind == LinkFault::kGarbageToHost) {
-      for (std::size_t i = 0; i < n; ++i) buffer[i] = static_cast<char>(rng() & 0xFF);
-    }
+    if (active && active->kind == LinkFault::kGarbageToHost) garble(n);
     if (n > 0 && host && !blocked) {
       try {
         host->master.write_some(buffer, n);  // what does not fit is lost, as on a UART
@@ -117,9 +119,7 @@ void FaultRelay::run() {
       } catch (const std::runtime_error&) {  // the host closed its side (or never opened it)
       }
     }
-    if (active && active->kind == LinkFault::kGarbageToDevice) {
-      for (std::size_t i = 0; i < n; ++i) buffer[i] = static_cast<char>(rng() & 0xFF);
-    }
+    if (active && active->kind == LinkFault::kGarbageToDevice) garble(n);
     if (n > 0 && !blocked) {
       try {
         device_.write_some(buffer, n);
