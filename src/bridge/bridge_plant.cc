@@ -37,10 +37,10 @@ constexpr int kSessionFaults = wire::kWatchdog | wire::kEmergencyStop | wire::kI
 }  // namespace
 
 BridgePlant::BridgePlant(SerialPort link, BridgeOptions options)
-    : link_(std::move(link)),
-      options_(options),
-      epoch_(std::chrono::steady_clock::now()),
-      gate_(options.limits) {
+    : BridgePlant(std::make_unique<SerialPort>(std::move(link)), steady_clock_, options) {}
+
+BridgePlant::BridgePlant(std::unique_ptr<Link> link, const Clock& clock, BridgeOptions options)
+    : link_(std::move(link)), clock_(clock), epoch_s_(clock.now_s()), options_(options), gate_(options.limits) {
   if (options_.limits.max_dkpa <= 0 || options_.limits.rate_dkpa_s <= 0 || options_.limits.timeout_ms == 0) {
     throw std::invalid_argument("bridge: the pressure limit, rate limit and timeout must be positive");
   }
@@ -54,14 +54,9 @@ BridgePlant::~BridgePlant() {
   }
 }
 
-uint32_t BridgePlant::now_ms() const {
-  return static_cast<uint32_t>(
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - epoch_).count());
-}
+uint32_t BridgePlant::now_ms() const { return static_cast<uint32_t>(std::floor(1000.0 * time_s())); }
 
-double BridgePlant::time_s() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_).count();
-}
+double BridgePlant::time_s() const { return clock_.now_s() - epoch_s_; }
 
 double BridgePlant::max_pressure_kpa() const { return gate_.limits().max_dkpa / 10.0; }
 
@@ -74,7 +69,7 @@ void BridgePlant::send(char type, const int32_t* fields, int count) {
   char buffer[wire::kMaxLine + 2];
   const std::size_t n = wire::format_packet(p, buffer, sizeof buffer);
   try {
-    link_.write_all(buffer, n);
+    link_->write_all(buffer, n);
   } catch (const std::runtime_error& e) {
     link_lost_ = true;
     session_ = false;
@@ -86,16 +81,16 @@ void BridgePlant::send(char type, const int32_t* fields, int count) {
 void BridgePlant::fault(const std::string& cause) {
   session_ = false;
   if (link_lost_) {
-    throw BridgeFault(fmt::format("{}: {}; the device's watchdog vents within {} ms", link_.name(), cause,
+    throw BridgeFault(fmt::format("{}: {}; the device's watchdog vents within {} ms", link_->name(), cause,
                                   gate_.limits().timeout_ms));
   }
   try {
     send('E', nullptr, 0);
   } catch (const BridgeFault&) {
     throw BridgeFault(fmt::format("{}: {}; the link is gone too, the device's watchdog vents within {} ms",
-                                  link_.name(), cause, gate_.limits().timeout_ms));
+                                  link_->name(), cause, gate_.limits().timeout_ms));
   }
-  throw BridgeFault(fmt::format("{}: {}; vented (emergency stop sent)", link_.name(), cause));
+  throw BridgeFault(fmt::format("{}: {}; vented (emergency stop sent)", link_->name(), cause));
 }
 
 void BridgePlant::pump(int timeout_ms) {
@@ -103,7 +98,7 @@ void BridgePlant::pump(int timeout_ms) {
   char buffer[512];
   std::size_t n = 0;
   try {
-    n = link_.read_some(buffer, sizeof buffer, timeout_ms);
+    n = link_->read_some(buffer, sizeof buffer, timeout_ms);
   } catch (const std::runtime_error& e) {
     link_lost_ = true;
     fault(fmt::format("link lost ({})", e.what()));
@@ -145,7 +140,7 @@ DeviceInfo BridgePlant::start_session() {
     if (now >= deadline) {
       throw BridgeFault(fmt::format("{}: no answer to hello within {} s (is the softwrist firmware or emulator "
                                     "on the other end, at 115200 baud?)",
-                                    link_.name(), options_.handshake_timeout_s));
+                                    link_->name(), options_.handshake_timeout_s));
     }
     if (now >= next_hello) {
       const int32_t version = wire::kProtocolVersion;
@@ -157,7 +152,7 @@ DeviceInfo BridgePlant::start_session() {
   const DeviceInfo& device = protocol_.device();
   if (device.version != wire::kProtocolVersion) {
     throw BridgeFault(fmt::format("{}: the device speaks protocol version {}, this softwrist version {}",
-                                  link_.name(), device.version, wire::kProtocolVersion));
+                                  link_->name(), device.version, wire::kProtocolVersion));
   }
   if (device.limits.max_dkpa <= 0 || device.limits.rate_dkpa_s <= 0 || device.limits.timeout_ms == 0) {
     fault("the device announced limits that are not positive");

@@ -12,14 +12,17 @@
 //     (this process stalled past the timeout between two commands).
 // Garbled, unknown and out-of-sequence packets from the device are counted and dropped, never acted on.
 //
-// Time is the host's monotonic clock from construction; an IMU reading is stamped when its packet arrived.
+// Time is the host's monotonic clock from construction (or the simulated clock of a lock-step test rig, clock.h);
+// an IMU reading is stamped when its packet arrived.
 
-#include <chrono>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
+#include "bridge/clock.h"
 #include "bridge/host_protocol.h"
+#include "bridge/link.h"
 #include "bridge/safety_gate.h"
 #include "bridge/serial_port.h"
 #include "bridge/wire_format.h"
@@ -50,7 +53,10 @@ struct BridgeStats {
 
 class BridgePlant final : public control::Plant {
  public:
+  // Over a serial port, on the host's monotonic clock.
   explicit BridgePlant(SerialPort link, BridgeOptions options = {});
+  // Over any link, on `clock` (which must outlive the plant): a lock-step test rig gives its simulated clock.
+  BridgePlant(std::unique_ptr<Link> link, const Clock& clock, BridgeOptions options = {});
   ~BridgePlant() override;  // vents (emergency stop); never throws
   BridgePlant(const BridgePlant&) = delete;
   BridgePlant& operator=(const BridgePlant&) = delete;
@@ -74,7 +80,7 @@ class BridgePlant final : public control::Plant {
   int device_flags() const { return data_.flags; }
   const BridgeStats& stats() const { return stats_; }
   const DeviceInfo& device() const { return protocol_.device(); }
-  const std::string& link_name() const { return link_.name(); }
+  const std::string& link_name() const { return link_->name(); }
   // The sequence number the next packet to the device will carry (for the latency benchmark).
   uint16_t next_seq() const { return host_seq_; }
 
@@ -88,9 +94,11 @@ class BridgePlant final : public control::Plant {
   void check_data_fresh();
   [[noreturn]] void fault(const std::string& cause);
 
-  SerialPort link_;
+  std::unique_ptr<Link> link_;
+  SteadyClock steady_clock_;  // the clock when none is given
+  const Clock& clock_;
+  double epoch_s_;
   BridgeOptions options_;
-  std::chrono::steady_clock::time_point epoch_;
   wire::LineAssembler lines_;
   wire::SafetyGate gate_;
   HostProtocol protocol_;

@@ -117,8 +117,34 @@ struct DeviceEmulator::Device {
   sim::SimulatedPlant plant;
 };
 
+// What the firmware keeps between passes of its loop.
+struct DeviceEmulator::Firmware {
+  explicit Firmware(const EmulatorConfig& config)
+      : gate(config.limits),
+        protocol(&gate),
+        rng(config.seed ^ 0x5eedULL),
+        dead_time_ms(static_cast<std::uint32_t>(std::lround(config.effects.regulator_dead_time_s * 1000.0))),
+        latency_ms(static_cast<std::uint32_t>(std::lround(config.effects.imu_latency_s * 1000.0))) {}
+
+  wire::SafetyGate gate;
+  wire::DeviceProtocol protocol;
+  wire::LineAssembler lines;
+  std::deque<char> received;  // from the host, not yet read by the loop
+  std::mt19937_64 rng;
+  std::uint32_t dead_time_ms, latency_ms;
+  std::deque<std::pair<std::uint32_t, std::array<int32_t, 4>>> setpoints;  // for the dead time
+  std::deque<std::pair<std::uint32_t, control::WristAngles>> readings;     // for the IMU latency
+  int32_t fe_cdeg = 0, ur_cdeg = 0;
+  bool vented = true, imu_stale = false;
+  std::optional<std::uint32_t> first_hello_ms;
+  std::uint32_t estop_ms = 0, last_command_ms = 0, last_imu_ms = 0;
+  bool estop_pending = false, hello_pending = false;
+  std::uint32_t next_data = 0;
+  bool injected[3] = {false, false, false};
+};
+
 DeviceEmulator::DeviceEmulator(const EmulatorConfig& config)
-    : config_(config), device_(std::make_unique<Device>(config)) {}
+    : config_(config), device_(std::make_unique<Device>(config)), firmware_(std::make_unique<Firmware>(config)) {}
 
 DeviceEmulator::~DeviceEmulator() = default;
 
@@ -126,6 +152,196 @@ EmulatorStats DeviceEmulator::stats() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return stats_;
 }
+
+void DeviceEmulator::receive(const char* data, std::size_t size) {
+  firmware_->received.insert(firmware_->received.end(), data, data + size);
+}
+
+void DeviceEmulator::send(const wire::Packet& packet, DeviceUart& uart) {
+  char buffer[wire::kMaxLine + 2];
+  const std::size_t dropped = uart.write(buffer, wire::format_packet(packet, buffer, sizeof buffer));
+  if (dropped > 0) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.bytes_dropped += static_cast<long>(dropped);
+  }
+}
+
+void DeviceEmulator::handle_line(std::uint32_t now, DeviceUart& uart) {
+  Firmware& fw = *firmware_;
+  wire::Packet reply;
+  bool has_reply = false;
+  const char type = fw.protocol.handle_line(fw.lines.line(), fw.lines.length(), now, &reply, &has_reply);
+  if (has_reply) send(reply, uart);
+  if (type != 0 && observer_) {
+    wire::Packet accepted;
+    wire::parse_line(fw.lines.line(), fw.lines.length(), &accepted);
+    observer_(type, accepted.seq);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (type == 0) {
+    ++stats_.packets_rejected;
+    return;
+  }
+  ++stats_.packets_accepted;
+  if (type == 'H') {
+    // The subject puts the wrist at neutral and holds it there, vented, until the first command: the host zeroes
+    // the angles there, as the paper did.
+    device_->plant.hold(control::WristAngles{});
+    ++stats_.sessions;
+    if (!fw.first_hello_ms) fw.first_hello_ms = now;
+    fw.hello_pending = true;
+    fw.last_command_ms = fw.last_imu_ms = now;
+  } else if (type == 'S') {
+    device_->plant.hold(std::nullopt);
+    fw.last_command_ms = now;
+  } else if (type == 'E') {
+    fw.estop_pending = true;
+    fw.estop_ms = now;
+  }
+}
+
+void DeviceEmulator::inject_faults(std::uint32_t t, DeviceUart& uart) {
+  Firmware& fw = *firmware_;
+  const auto due = [&](int k, double at_s) {
+    if (fw.injected[k] || at_s < 0.0 || !fw.first_hello_ms ||
+        t < *fw.first_hello_ms + static_cast<std::uint32_t>(at_s * 1000.0)) {
+      return false;
+    }
+    fw.injected[k] = true;
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.fault_injected_ms[k] = t;
+    return true;
+  };
+  if (due(0, config_.faults.imu_stale_at_s)) fw.imu_stale = true;
+  if (due(1, config_.faults.garbage_at_s)) {
+    std::string junk(static_cast<std::size_t>(config_.faults.garbage_bytes), '\0');
+    for (char& c : junk) c = static_cast<char>(fw.rng() & 0xFF);
+    uart.write(junk.data(), junk.size());
+  }
+  if (due(2, config_.faults.link_cut_at_s)) uart.cut();
+}
+
+void DeviceEmulator::sample_imus(std::uint32_t t, DeviceUart& uart) {
+  Firmware& fw = *firmware_;
+  const EmulatorEffects& fx = config_.effects;
+  fw.next_data = t + kDataPeriodMs;
+  const control::ImuReading sample = device_->plant.read_angles();
+  fw.readings.push_back({t, sample.angles});
+  while (fw.readings.size() > 1 && fw.readings[1].first + fw.latency_ms <= t) fw.readings.pop_front();
+  const bool valid = !fw.imu_stale;
+  if (valid) {
+    fw.fe_cdeg = to_fixed(fw.readings.front().second.fe_deg + fx.imu_bias_fe_deg, 100.0);
+    fw.ur_cdeg = to_fixed(fw.readings.front().second.ur_deg + fx.imu_bias_ur_deg, 100.0);
+    fw.last_imu_ms = t;
+  }
+  fw.gate.imu_reading(valid, t);
+  int32_t measured[4];
+  for (int i = 0; i < 4; ++i) {
+    measured[i] = to_fixed(device_->plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i)), 10.0);
+  }
+  send(fw.protocol.data_packet(t, fw.fe_cdeg, fw.ur_cdeg, measured), uart);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.data_sent;
+}
+
+void DeviceEmulator::update_outputs(std::uint32_t t) {
+  Firmware& fw = *firmware_;
+  std::array<int32_t, 4> out{};
+  fw.gate.update(t, out.data());
+  const bool now_vented = std::all_of(out.begin(), out.end(), [](int32_t p) { return p == 0; });
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.max_output_dkpa = std::max(stats_.max_output_dkpa, *std::max_element(out.begin(), out.end()));
+    if (now_vented && !fw.vented) {
+      VentEvent e{.t_ms = t};
+      if (fw.estop_pending) {
+        e.cause = "emergency stop";
+        e.cause_ms = fw.estop_ms;
+      } else if (fw.hello_pending) {
+        e.cause = "new session";
+        e.cause_ms = fw.last_command_ms;
+      } else if (fw.gate.flags(t) & wire::kWatchdog) {
+        // Both timeouts may have run out by now; the cause is the one that ran out first.
+        const bool no_command = fw.last_command_ms <= fw.last_imu_ms;
+        e.cause = no_command ? "watchdog: no command" : "watchdog: no IMU";
+        e.cause_ms = no_command ? fw.last_command_ms : fw.last_imu_ms;
+      } else {
+        e.cause = "zero command";
+        e.cause_ms = fw.last_command_ms;
+      }
+      stats_.vents.push_back(e);
+    }
+    stats_.vented = now_vented;
+  }
+  fw.vented = now_vented;
+  fw.estop_pending = fw.hello_pending = false;
+  // The regulators see the setpoint after the dead time; venting is the valve, which needs no regulator.
+  fw.setpoints.push_back({t, out});
+  while (fw.setpoints.size() > 1 && fw.setpoints[1].first + fw.dead_time_ms <= t) fw.setpoints.pop_front();
+  const std::array<int32_t, 4>& applied = now_vented ? out : fw.setpoints.front().second;
+  device_->plant.command_pressures_kpa({applied[0] / 10.0, applied[1] / 10.0, applied[2] / 10.0, applied[3] / 10.0});
+}
+
+void DeviceEmulator::tick(std::uint32_t t, DeviceUart& uart) {
+  Firmware& fw = *firmware_;
+  while (!fw.received.empty()) {
+    const char c = fw.received.front();
+    fw.received.pop_front();
+    if (fw.lines.push(c)) handle_line(t, uart);
+  }
+  inject_faults(t, uart);
+  device_->plant.wait_until(t / 1000.0);
+  if (t >= fw.next_data) sample_imus(t, uart);
+  update_outputs(t);
+}
+
+namespace {
+
+// The emulator's pseudo-terminal as the firmware's UART: what does not fit is dropped; a host that went (it
+// closed its side) may come back, as a new host opens the device node again.
+class PseudoTerminalUart final : public DeviceUart {
+ public:
+  explicit PseudoTerminalUart(SerialPort link) : link_(std::move(link)) {}
+
+  std::size_t write(const char* data, std::size_t size) override {
+    if (!link_ || host_gone_) return 0;  // nobody listening: nothing counted as dropped
+    try {
+      return size - link_->write_some(data, size);
+    } catch (const std::runtime_error&) {
+      host_gone_ = true;
+      return 0;
+    }
+  }
+  void cut() override { link_.reset(); }  // the host's side reads EIO: unplugged
+
+  // Waits up to `timeout_ms` for bytes from the host.
+  std::size_t read(char* buffer, std::size_t size, int timeout_ms) {
+    if (link_ && !host_gone_) {
+      try {
+        return link_->read_some(buffer, size, timeout_ms);
+      } catch (const std::runtime_error&) {
+        host_gone_ = true;  // the host closed its side; a new one may open it again
+        return 0;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
+    if (link_) {
+      try {  // a pseudo-terminal whose host went reads again once a new host opens it
+        const std::size_t n = link_->read_some(buffer, size, 0);
+        host_gone_ = false;
+        return n;
+      } catch (const std::runtime_error&) {
+      }
+    }
+    return 0;
+  }
+
+ private:
+  std::optional<SerialPort> link_;
+  bool host_gone_ = false;
+};
+
+}  // namespace
 
 void DeviceEmulator::serve(SerialPort link, const std::atomic<bool>& stop) {
   try {
@@ -137,7 +353,7 @@ void DeviceEmulator::serve(SerialPort link, const std::atomic<bool>& stop) {
   }
 }
 
-void DeviceEmulator::serve_device(SerialPort link_in, const std::atomic<bool>& stop) {
+void DeviceEmulator::serve_device(SerialPort link, const std::atomic<bool>& stop) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point epoch = Clock::now();
   {
@@ -147,189 +363,20 @@ void DeviceEmulator::serve_device(SerialPort link_in, const std::atomic<bool>& s
   const auto now_ms = [&] {
     return static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - epoch).count());
   };
-  std::optional<SerialPort> link(std::move(link_in));
-  wire::SafetyGate gate(config_.limits);
-  wire::DeviceProtocol protocol(&gate);
-  wire::LineAssembler lines;
-  std::mt19937_64 rng(config_.seed ^ 0x5eedULL);
-  const EmulatorEffects& fx = config_.effects;
-  const auto dead_time_ms = static_cast<std::uint32_t>(std::lround(fx.regulator_dead_time_s * 1000.0));
-  const auto latency_ms = static_cast<std::uint32_t>(std::lround(fx.imu_latency_s * 1000.0));
-
-  std::deque<std::pair<std::uint32_t, std::array<int32_t, 4>>> setpoints;  // for the dead time
-  std::deque<std::pair<std::uint32_t, control::WristAngles>> readings;     // for the IMU latency
-  int32_t fe_cdeg = 0, ur_cdeg = 0;
-  bool vented = true, imu_stale = false, host_gone = false;
-  std::optional<std::uint32_t> first_hello_ms;
-  std::uint32_t estop_ms = 0, last_command_ms = 0, last_imu_ms = 0;
-  bool estop_pending = false, hello_pending = false;
-  std::uint32_t next_tick = 0, next_data = 0;
-  bool injected[3] = {false, false, false};
-
-  const auto write = [&](const char* data, std::size_t size) {
-    if (!link || host_gone) return;
-    std::size_t n = 0;
-    try {
-      n = link->write_some(data, size);
-    } catch (const std::runtime_error&) {
-      host_gone = true;
-    }
-    if (n < size) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stats_.bytes_dropped += static_cast<long>(size - n);
-    }
-  };
-  const auto send = [&](const wire::Packet& p) {
-    char buffer[wire::kMaxLine + 2];
-    write(buffer, wire::format_packet(p, buffer, sizeof buffer));
-  };
-  const auto handle_line = [&](std::uint32_t now) {
-    wire::Packet reply;
-    bool has_reply = false;
-    const char type = protocol.handle_line(lines.line(), lines.length(), now, &reply, &has_reply);
-    if (has_reply) send(reply);
-    if (type != 0 && observer_) {
-      wire::Packet accepted;
-      wire::parse_line(lines.line(), lines.length(), &accepted);
-      observer_(type, accepted.seq);
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (type == 0) {
-      ++stats_.packets_rejected;
-      return;
-    }
-    ++stats_.packets_accepted;
-    if (type == 'H') {
-      // The subject puts the wrist at neutral and holds it there, vented, until the first command: the host
-      // zeroes the angles there, as the paper did.
-      device_->plant.hold(control::WristAngles{});
-      ++stats_.sessions;
-      if (!first_hello_ms) first_hello_ms = now;
-      hello_pending = true;
-      last_command_ms = last_imu_ms = now;
-    } else if (type == 'S') {
-      device_->plant.hold(std::nullopt);
-      last_command_ms = now;
-    } else if (type == 'E') {
-      estop_pending = true;
-      estop_ms = now;
-    }
-  };
-  const auto due = [&](double at_s, std::uint32_t now) {
-    return at_s >= 0.0 && first_hello_ms && now >= *first_hello_ms + static_cast<std::uint32_t>(at_s * 1000.0);
-  };
-
+  PseudoTerminalUart uart(std::move(link));
+  std::uint32_t next_tick = 0;
   while (!stop.load()) {
     // Wait for bytes from the host until the next millisecond tick.
     const std::uint32_t before = now_ms();
-    const int wait = next_tick > before ? static_cast<int>(next_tick - before) : 0;
-    std::size_t n = 0;
     char buffer[256];
-    if (link && !host_gone) {
-      try {
-        n = link->read_some(buffer, sizeof buffer, wait);
-      } catch (const std::runtime_error&) {
-        host_gone = true;  // the host closed its side; a new one may open it again
-      }
-    } else {
-      std::this_thread::sleep_for(std::chrono::milliseconds(wait));
-      if (link && host_gone) {
-        try {  // a pseudo-terminal whose host went reads again once a new host opens it
-          n = link->read_some(buffer, sizeof buffer, 0);
-          host_gone = false;
-        } catch (const std::runtime_error&) {
-        }
-      }
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      if (lines.push(buffer[i])) handle_line(next_tick);  // seen by the next pass, as the firmware does
-    }
-
+    receive(buffer, uart.read(buffer, sizeof buffer, next_tick > before ? static_cast<int>(next_tick - before) : 0));
     // One pass of the firmware's loop per millisecond (several when the emulator fell behind).
     const std::uint32_t now = now_ms();
     if (now > next_tick + 1) {
       std::lock_guard<std::mutex> lock(mutex_);
       stats_.max_loop_lag_ms = std::max(stats_.max_loop_lag_ms, now - next_tick);
     }
-    for (; next_tick <= now; ++next_tick) {
-      const std::uint32_t t = next_tick;
-      const auto inject = [&](int k) {
-        injected[k] = true;
-        std::lock_guard<std::mutex> lock(mutex_);
-        stats_.fault_injected_ms[k] = t;
-      };
-      if (!injected[0] && due(config_.faults.imu_stale_at_s, t)) {
-        inject(0);
-        imu_stale = true;
-      }
-      if (!injected[1] && due(config_.faults.garbage_at_s, t)) {
-        inject(1);
-        std::string junk(static_cast<std::size_t>(config_.faults.garbage_bytes), '\0');
-        for (char& c : junk) c = static_cast<char>(rng() & 0xFF);
-        write(junk.data(), junk.size());
-      }
-      if (!injected[2] && due(config_.faults.link_cut_at_s, t)) {
-        inject(2);
-        link.reset();  // the host's side reads EIO: unplugged
-      }
-
-      device_->plant.wait_until(t / 1000.0);
-      if (t >= next_data) {
-        next_data = t + kDataPeriodMs;
-        const control::ImuReading sample = device_->plant.read_angles();
-        readings.push_back({t, sample.angles});
-        while (readings.size() > 1 && readings[1].first + latency_ms <= t) readings.pop_front();
-        const bool valid = !imu_stale;
-        if (valid) {
-          fe_cdeg = to_fixed(readings.front().second.fe_deg + fx.imu_bias_fe_deg, 100.0);
-          ur_cdeg = to_fixed(readings.front().second.ur_deg + fx.imu_bias_ur_deg, 100.0);
-          last_imu_ms = t;
-        }
-        gate.imu_reading(valid, t);
-        int32_t measured[4];
-        for (int i = 0; i < 4; ++i) {
-          measured[i] = to_fixed(device_->plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i)), 10.0);
-        }
-        send(protocol.data_packet(t, fe_cdeg, ur_cdeg, measured));
-        std::lock_guard<std::mutex> lock(mutex_);
-        ++stats_.data_sent;
-      }
-
-      std::array<int32_t, 4> out{};
-      gate.update(t, out.data());
-      if (const int32_t top = *std::max_element(out.begin(), out.end()); top > stats_.max_output_dkpa) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stats_.max_output_dkpa = top;
-      }
-      const bool now_vented = std::all_of(out.begin(), out.end(), [](int32_t p) { return p == 0; });
-      if (now_vented && !vented) {
-        VentEvent e{.t_ms = t};
-        if (estop_pending) {
-          e.cause = "emergency stop";
-          e.cause_ms = estop_ms;
-        } else if (hello_pending) {
-          e.cause = "new session";
-          e.cause_ms = last_command_ms;
-        } else if (gate.flags(t) & wire::kWatchdog) {
-          const bool no_command = t - last_command_ms > config_.limits.timeout_ms;
-          e.cause = no_command ? "watchdog: no command" : "watchdog: no IMU";
-          e.cause_ms = no_command ? last_command_ms : last_imu_ms;
-        } else {
-          e.cause = "zero command";
-          e.cause_ms = last_command_ms;
-        }
-        std::lock_guard<std::mutex> lock(mutex_);
-        stats_.vents.push_back(e);
-      }
-      vented = now_vented;
-      estop_pending = hello_pending = false;
-      // The regulators see the setpoint after the dead time; venting is the valve, which needs no regulator.
-      setpoints.push_back({t, out});
-      while (setpoints.size() > 1 && setpoints[1].first + dead_time_ms <= t) setpoints.pop_front();
-      const std::array<int32_t, 4>& applied = now_vented ? out : setpoints.front().second;
-      device_->plant.command_pressures_kpa(
-          {applied[0] / 10.0, applied[1] / 10.0, applied[2] / 10.0, applied[3] / 10.0});
-    }
+    for (; next_tick <= now; ++next_tick) tick(next_tick, uart);
   }
 }
 

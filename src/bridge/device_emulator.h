@@ -1,7 +1,9 @@
 #pragma once
-// The device emulator: what the firmware does (firmware/softwrist_fw), in real time, on the device side of a
-// serial link (a pseudo-terminal), with a simulated exosuit in place of the regulators and IMUs. It is how the
-// bridge is tested here and how a user rehearses a hardware trial (`softwrist emulate`).
+// The device emulator: what the firmware does (firmware/softwrist_fw), on the device side of a serial link, with a
+// simulated exosuit in place of the regulators and IMUs. It is how the bridge is tested here and how a user
+// rehearses a hardware trial (`softwrist emulate`). It runs on its own millisecond clock, driven either in real
+// time over a pseudo-terminal (serve) or in simulated time by a lock-step rig (lockstep_link.h), where every
+// timing property of the safety rules is exact and the same on every machine.
 //
 // The exosuit is the simulation (MuJoCo with the fPAM plugin, sim::SimulatedPlant) of a placement file, with extra
 // effects a real device has and the nominal model lacks, each off unless its config names it (docs/emulator.md):
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "bridge/safety_gate.h"
+#include "bridge/wire_format.h"
 #include "bridge/serial_port.h"
 #include "physics/mount_stretch.h"
 
@@ -64,7 +67,7 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path);
 
 // A moment the device vented (all regulator setpoints to 0, supply valve closed).
 struct VentEvent {
-  std::uint32_t t_ms = 0;          // device clock: ms since serve() began
+  std::uint32_t t_ms = 0;          // device clock: ms since the device started
   std::string cause;               // "emergency stop", "zero command", "watchdog: no command", "watchdog: no IMU"
   std::uint32_t cause_ms = 0;      // when the cause began: the packet's arrival, or the last valid command or IMU
                                    // reading before the timeout
@@ -77,11 +80,23 @@ struct EmulatorStats {
   long bytes_dropped = 0;     // did not fit the link's buffer (no host reading)
   long sessions = 0;
   int32_t max_output_dkpa = 0;        // the highest setpoint the regulators were ever given
-  std::uint32_t max_loop_lag_ms = 0;  // how far the emulated loop fell behind real time (a loaded machine)
+  std::uint32_t max_loop_lag_ms = 0;  // how far serve()'s loop fell behind real time (a loaded machine)
   std::uint32_t fault_injected_ms[3] = {0, 0, 0};  // imu stale, garbage, link cut; 0: not injected
   std::vector<VentEvent> vents;
-  std::chrono::steady_clock::time_point epoch;  // serve()'s start: the device clock's zero
+  bool vented = true;  // now: every regulator setpoint 0
+  std::chrono::steady_clock::time_point epoch;  // serve()'s start: the device clock's zero (real time only)
   std::string stopped_by;  // why serve() stopped before it was asked to (the simulation failed); empty otherwise
+};
+
+// The device's end of the link as the emulated firmware sees it: a UART that drops what does not fit, and a cable
+// that a fault can pull.
+class DeviceUart {
+ public:
+  virtual ~DeviceUart() = default;
+  // Sends what fits; returns how many bytes were dropped.
+  virtual std::size_t write(const char* data, std::size_t size) = 0;
+  // The link-cut fault: the host's side reads "gone" from now on (the device keeps running).
+  virtual void cut() = 0;
 };
 
 class DeviceEmulator {
@@ -91,24 +106,40 @@ class DeviceEmulator {
   DeviceEmulator(const DeviceEmulator&) = delete;
   DeviceEmulator& operator=(const DeviceEmulator&) = delete;
 
-  // Serves `link` in real time until `stop` is set. The link may go (cut, or the host gone): the device keeps
-  // running (its watchdog vents) and, for a host that went, listens for the next one. Should the simulated exosuit
-  // fail (an unstable simulation), it stops, closing the link (the host sees it lost and vents), with the reason
-  // in stats().stopped_by.
+  // The device in steps of its own clock, driven by whoever owns the time (a lock-step rig, lockstep_link.h, or
+  // serve() below). Device time starts at 0 ms and is advanced one millisecond at a time.
+  //   receive: bytes from the host, acted on at the next tick, as the firmware reads its serial buffer in its loop;
+  //   tick:    one pass of the firmware's loop at device time `t_ms` (one more than the last tick's).
+  // tick() throws std::runtime_error when the simulated exosuit fails (an unstable simulation).
+  void receive(const char* data, std::size_t size);
+  void tick(std::uint32_t t_ms, DeviceUart& uart);
+
+  // Serves a serial port (the emulator's pseudo-terminal) in real time until `stop` is set: ticks at the rate of
+  // the host's monotonic clock, catching up when it fell behind. The link may go (cut, or the host gone): the
+  // device keeps running (its watchdog vents) and, for a host that went, listens for the next one. Should the
+  // simulated exosuit fail, it stops, closing the link (the host sees it lost and vents), with the reason in
+  // stats().stopped_by.
   void serve(SerialPort link, const std::atomic<bool>& stop);
   // A copy, safe to take while serve() runs.
   EmulatorStats stats() const;
   // serve() stopped on its own (stats().stopped_by says why).
   bool failed() const { return failed_.load(); }
-  // Called from serve()'s thread as each packet from the host is accepted (for the latency benchmark). Set before
-  // serve() starts.
+  // Called as each packet from the host is accepted (for the latency benchmark). Set before the device runs.
   void set_packet_observer(std::function<void(char type, std::uint16_t seq)> observer) { observer_ = std::move(observer); }
 
  private:
   struct Device;
+  struct Firmware;
   void serve_device(SerialPort link, const std::atomic<bool>& stop);
+  void handle_line(std::uint32_t now, DeviceUart& uart);
+  void inject_faults(std::uint32_t t, DeviceUart& uart);
+  void sample_imus(std::uint32_t t, DeviceUart& uart);
+  void update_outputs(std::uint32_t t);
+  void send(const wire::Packet& packet, DeviceUart& uart);
+
   EmulatorConfig config_;
   std::unique_ptr<Device> device_;
+  std::unique_ptr<Firmware> firmware_;
   mutable std::mutex mutex_;
   EmulatorStats stats_;
   std::function<void(char, std::uint16_t)> observer_;

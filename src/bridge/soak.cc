@@ -5,13 +5,17 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <map>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "bridge/bridge_plant.h"
+#include "bridge/fault_relay.h"
 #include "bridge/hardware_trial.h"
+#include "bridge/lockstep_link.h"
 #include "experiments/runner.h"
 #include "experiments/trial_log.h"
 #include "io/json_reader.h"
@@ -21,9 +25,9 @@ namespace softwrist::bridge {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using SteadyTime = std::chrono::steady_clock;
 
-double seconds_between(Clock::time_point from, Clock::time_point to) {
+double seconds_between(SteadyTime::time_point from, SteadyTime::time_point to) {
   return std::chrono::duration<double>(to - from).count();
 }
 
@@ -60,22 +64,49 @@ std::string check_trial_log(const fs::path& dir, long* rows) {
   }
 }
 
-}  // namespace
+// Hardware trials back to back until `stop` is set. `open` gives a plant on the link as it now is, or nothing
+// while the cable is out (`wait` then lets 10 ms pass); `elapsed` is the soak's clock.
+void run_trials(const experiments::ExperimentConfig& config, const SoakOptions& options, const std::atomic<bool>& stop,
+                const std::function<std::unique_ptr<BridgePlant>()>& open, const std::function<void()>& wait,
+                const std::function<double()>& elapsed, std::vector<SoakTrial>& trials) {
+  for (int index = 1; !stop;) {
+    SoakTrial trial{.dir = options.out / fmt::format("trial_{:04d}", index)};
+    try {
+      const std::unique_ptr<BridgePlant> plant = open();
+      if (!plant) {  // the cable is out
+        wait();
+        continue;
+      }
+      const TrialResult r = run_trial(config, *plant,
+                                      {.out = trial.dir, .repetitions = 1000000, .overwrite = true, .interrupt = &stop});
+      trial.runs_completed = r.runs_completed;
+      trial.fault = r.fault.value_or("");
+    } catch (const std::runtime_error& e) {  // the link went while opening it
+      trial.fault = e.what();
+      if (!fs::exists(trial.dir / "trials.json")) continue;
+    }
+    trial.problem = check_trial_log(trial.dir, &trial.rows);
+    if (options.progress) {
+      *options.progress << fmt::format("{:7.1f} s  {}: {} rows, ended by: {}\n", elapsed(), trial.dir.filename().string(),
+                                       trial.rows, trial.fault.empty() ? "the end of the soak" : trial.fault)
+                        << std::flush;
+    }
+    trials.push_back(std::move(trial));
+    ++index;
+  }
+}
 
-SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorConfig& emulator_config,
-                    const SoakOptions& options) {
-  if (!(options.duration_s > 0.0)) throw std::runtime_error("soak: the duration must be > 0 s");
-  fs::create_directories(options.out);
-  SoakResult result;
-  const Clock::time_point start = Clock::now();
-  const auto elapsed = [&] { return seconds_between(start, Clock::now()); };
-
+// Real time: the emulator and the relay on threads, a watch thread that ends the soak and samples memory. The
+// device's clock starts at result.emulator.epoch, the relay's at its start: both are put on the soak's clock.
+void soak_in_real_time(const experiments::ExperimentConfig& config, const EmulatorConfig& emulator_config,
+                       const SoakOptions& options, SoakResult& result, double& device_zero_s) {
+  const SteadyTime::time_point start = SteadyTime::now();
+  const auto elapsed = [&] { return seconds_between(start, SteadyTime::now()); };
   PseudoTerminal device_link = PseudoTerminal::Open();
   DeviceEmulator emulator(emulator_config);
   std::atomic<bool> stop_emulator{false};
   std::thread emulator_thread([&] { emulator.serve(std::move(device_link.master), stop_emulator); });
   std::atomic<bool> deadline{false};  // ends the trial running at the end of the soak, after its current row
-  std::vector<MemorySample> memory;
   std::mutex memory_mutex;
   std::thread watch([&] {
     double next_sample = 0.0;
@@ -84,65 +115,70 @@ SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorC
       if (t >= options.duration_s) deadline = true;
       if (t >= next_sample) {
         std::lock_guard lock(memory_mutex);
-        memory.push_back(sample_memory(t));
+        result.memory.push_back(sample_memory(t));
         next_sample += options.memory_sample_s;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   });
-  try {
-    FaultRelay relay(SerialPort::Open(device_link.slave_path), options.relay);
-    for (int index = 1; !deadline; ++index) {
-      const std::string path = relay.host_path();
-      if (path.empty()) {  // the cable is out
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        --index;
-        continue;
-      }
-      SoakTrial trial{.dir = options.out / fmt::format("trial_{:04d}", index)};
-      try {
-        BridgePlant plant(SerialPort::Open(path));
-        const TrialResult r = run_trial(config, plant,
-                                        {.out = trial.dir, .repetitions = 1000000, .overwrite = true,
-                                         .interrupt = &deadline});
-        trial.runs_completed = r.runs_completed;
-        trial.fault = r.fault.value_or("");
-      } catch (const std::runtime_error& e) {  // the link went while opening it
-        trial.fault = e.what();
-        if (!fs::exists(trial.dir / "trials.json")) {
-          --index;
-          continue;
-        }
-      }
-      trial.problem = check_trial_log(trial.dir, &trial.rows);
-      if (options.progress) {
-        *options.progress << fmt::format("{:7.1f} s  {}: {} rows, ended by: {}\n", elapsed(), trial.dir.filename().string(),
-                                         trial.rows, trial.fault.empty() ? "the end of the soak" : trial.fault)
-                          << std::flush;
-      }
-      result.trials.push_back(std::move(trial));
-    }
-    // Faults of the last moments are still judged: the relay keeps running until the device had time to vent.
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    for (const InjectedFault& f : relay.faults()) result.faults.push_back({.fault = f, .onset_s = seconds_between(start, f.onset)});
-  } catch (...) {
+  const auto join = [&] {
     deadline = true;
     watch.join();
     stop_emulator = true;
     emulator_thread.join();
+  };
+  try {
+    FaultRelay relay(SerialPort::Open(device_link.slave_path), options.faults);
+    const auto open = [&]() -> std::unique_ptr<BridgePlant> {
+      const std::string path = relay.host_path();
+      return path.empty() ? nullptr : std::make_unique<BridgePlant>(SerialPort::Open(path));
+    };
+    run_trials(config, options, deadline, open, [] { std::this_thread::sleep_for(std::chrono::milliseconds(10)); },
+               elapsed, result.trials);
+    // Faults of the last moments are still judged: the relay keeps running until the device had time to vent.
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const double relay_zero_s = seconds_between(start, relay.started());
+    for (const InjectedFault& f : relay.faults()) result.faults.push_back({.fault = f, .onset_s = relay_zero_s + f.onset_s});
+  } catch (...) {
+    join();
     throw;
   }
-  deadline = true;
-  watch.join();
-  stop_emulator = true;
-  emulator_thread.join();
+  join();
   result.duration_s = elapsed();
-  result.memory = memory;
   result.memory.push_back(sample_memory(result.duration_s));
   result.emulator = emulator.stats();
+  device_zero_s = seconds_between(start, result.emulator.epoch);
+}
 
-  // Each fault against the device's own vent record (its clock starts at result.emulator.epoch).
-  const double device_zero_s = seconds_between(start, result.emulator.epoch);
+// Simulated time: the lock-step rig, one clock for the device, the line and the host.
+void soak_in_simulated_time(const experiments::ExperimentConfig& config, const EmulatorConfig& emulator_config,
+                            const SoakOptions& options, SoakResult& result) {
+  DeviceEmulator emulator(emulator_config);
+  LockstepLink rig(emulator, {.faults = options.faults});
+  std::atomic<bool> deadline{false};
+  double next_sample = 0.0;
+  rig.set_tick_observer([&](std::uint32_t t_ms) {
+    const double t = t_ms / 1000.0;
+    if (t >= options.duration_s) deadline = true;
+    if (t >= next_sample) {
+      result.memory.push_back(sample_memory(t));
+      next_sample += options.memory_sample_s;
+    }
+  });
+  const auto open = [&]() -> std::unique_ptr<BridgePlant> {
+    return rig.cable_in() ? std::make_unique<BridgePlant>(rig.open_host(), rig) : nullptr;
+  };
+  run_trials(config, options, deadline, open, [&] { rig.run_for_ms(10); }, [&] { return rig.now_s(); }, result.trials);
+  rig.run_for_ms(200);  // the device has time to vent after the faults of the last moments
+  for (const InjectedFault& f : rig.faults()) result.faults.push_back({.fault = f, .onset_s = f.onset_s});
+  result.duration_s = rig.now_s();
+  result.memory.push_back(sample_memory(result.duration_s));
+  result.emulator = emulator.stats();
+}
+
+// Each fault against the device's own vent record (`device_zero_s`: the device clock's zero on the soak's), each
+// log, the emulator and the pressure limit.
+void judge(const SoakOptions& options, const wire::SafetyLimits& limits, double device_zero_s, SoakResult& result) {
   for (std::size_t i = 0; i < result.faults.size(); ++i) {
     FaultOutcome& f = result.faults[i];
     if (f.fault.device_vented_at_onset) {
@@ -172,10 +208,27 @@ SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorC
     if (!t.problem.empty()) result.failures.push_back(fmt::format("{}: its log: {}", t.dir.string(), t.problem));
   }
   if (!result.emulator.stopped_by.empty()) result.failures.push_back("the emulator stopped: " + result.emulator.stopped_by);
-  if (result.emulator.max_output_dkpa > emulator_config.limits.max_dkpa) {
+  if (result.emulator.max_output_dkpa > limits.max_dkpa) {
     result.failures.push_back(fmt::format("the regulators were given {} dkPa, above the limit {}",
-                                          result.emulator.max_output_dkpa, emulator_config.limits.max_dkpa));
+                                          result.emulator.max_output_dkpa, limits.max_dkpa));
   }
+}
+
+}  // namespace
+
+SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorConfig& emulator_config,
+                    const SoakOptions& options) {
+  if (!(options.duration_s > 0.0)) throw std::runtime_error("soak: the duration must be > 0 s");
+  LineFaults check(options.faults);  // refuses bad fault options before anything starts
+  fs::create_directories(options.out);
+  SoakResult result{.simulated_time = options.simulated_time};
+  double device_zero_s = 0.0;
+  if (options.simulated_time) {
+    soak_in_simulated_time(config, emulator_config, options, result);
+  } else {
+    soak_in_real_time(config, emulator_config, options, result, device_zero_s);
+  }
+  judge(options, emulator_config.limits, device_zero_s, result);
   std::ofstream(options.out / "soak.json") << to_json(result).dump(2) << '\n';
   return result;
 }
@@ -206,6 +259,7 @@ nlohmann::json to_json(const SoakResult& result) {
   return {{"passed", result.passed()},
           {"failures", result.failures},
           {"duration_s", result.duration_s},
+          {"clock", result.simulated_time ? "simulated" : "real"},
           {"trials", result.trials.size()},
           {"rows", rows},
           {"faults", result.faults.size()},

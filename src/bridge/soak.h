@@ -1,7 +1,14 @@
 #pragma once
 // The long trial (`softwrist soak`): tracking through the bridge against the device emulator for a long time (an
-// hour by default), over a link that breaks at random (fault_relay.h: cuts, garbage both ways, stalls). Each
-// hardware trial runs until a fault ends it; the next one starts on the link as it then is. Checked throughout:
+// hour by default), over a link that breaks at random (line_faults.h: cuts, garbage both ways, stalls). Each
+// hardware trial runs until a fault ends it; the next one starts on the link as it then is. It runs on one of two
+// clocks:
+//   real time   the emulator on its pseudo-terminal and a relay (fault_relay.h) on threads: what a machine's
+//               scheduling does to the loop is part of what is measured, so its vent times are figures of this
+//               host, not a property of the device;
+//   simulated   the lock-step rig (lockstep_link.h): one thread, the same trials and faults, every time exact and
+//               the same on every machine (what the tests check).
+// Checked throughout:
 //   - every fault ends with the device vented within 50 ms of its onset (the device's own vent record);
 //   - every trial's log reads back whole: rows in time order within each run, as many as bridge.json counts, no
 //     row cut short, the fault recorded;
@@ -17,7 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bridge/device_emulator.h"
-#include "bridge/fault_relay.h"
+#include "bridge/line_faults.h"
 #include "experiments/experiment.h"
 
 namespace softwrist::bridge {
@@ -25,7 +32,8 @@ namespace softwrist::bridge {
 struct SoakOptions {
   double duration_s = 3600.0;
   std::filesystem::path out;       // one directory per trial: trial_0001, ...; and soak.json
-  FaultRelayOptions relay;
+  LineFaultOptions faults;
+  bool simulated_time = false;     // the lock-step rig instead of real time
   double vent_deadline_s = 0.050;  // from a fault's onset to the device vented
   double memory_sample_s = 30.0;
   std::ostream* progress = nullptr;
@@ -54,6 +62,7 @@ struct SoakTrial {
 
 struct SoakResult {
   double duration_s = 0.0;
+  bool simulated_time = false;
   std::vector<SoakTrial> trials;
   std::vector<FaultOutcome> faults;
   std::vector<MemorySample> memory;
@@ -63,7 +72,8 @@ struct SoakResult {
 };
 
 // Runs the tracking experiment `config` on an emulated device (`emulator`) over a faulty link for
-// options.duration_s. Throws std::runtime_error for a config that is not a tracking experiment.
+// options.duration_s (of real or simulated time). Throws std::runtime_error for a config that is not a tracking
+// experiment.
 SoakResult run_soak(const experiments::ExperimentConfig& config, const EmulatorConfig& emulator,
                     const SoakOptions& options);
 

@@ -32,6 +32,7 @@ struct TrialCommandOptions {
   int repetitions = 0;
   double rest_s = 1.0;
   double max_kpa = 137.0;
+  int timeout_ms = 40;
   int baud = 115200;
   bool overwrite = false;
 };
@@ -86,6 +87,8 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
   const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
   bridge::BridgeOptions bridge_options;
   bridge_options.limits.max_dkpa = static_cast<int32_t>(options.max_kpa * 10.0);
+  if (options.timeout_ms < 1 || options.timeout_ms > 1000) throw UsageError("--timeout-ms must be 1..1000");
+  bridge_options.limits.timeout_ms = static_cast<std::uint32_t>(options.timeout_ms);
   bridge::BridgePlant plant(bridge::SerialPort::Open(options.device, options.baud), bridge_options);
   StopSignals signals;
   const std::filesystem::path dir =
@@ -116,6 +119,7 @@ struct SoakCommandOptions {
   double duration_s = 3600.0;
   double fault_interval_s = 20.0;
   std::uint64_t seed = 1;
+  bool simulated_time = false;
 };
 
 void soak(const SoakCommandOptions& options, std::ostream& out, std::ostream& err) {
@@ -125,13 +129,14 @@ void soak(const SoakCommandOptions& options, std::ostream& out, std::ostream& er
       bridge::run_soak(experiments::load_experiment_config(options.config), bridge::load_emulator_config(options.emulator),
                        {.duration_s = options.duration_s,
                         .out = options.out,
-                        .relay = {.mean_interval_s = options.fault_interval_s, .seed = options.seed},
+                        .faults = {.mean_interval_s = options.fault_interval_s, .seed = options.seed},
+                        .simulated_time = options.simulated_time,
                         .progress = &err});
   const nlohmann::json j = bridge::to_json(result);
   const auto& memory = result.memory;
-  out << fmt::format("soak: {:.0f} s, {} trials, {} rows, {} faults {}, slowest vent {:.1f} ms after its fault; heap in "
+  out << fmt::format("soak ({} time): {:.0f} s, {} trials, {} rows, {} faults {}, slowest vent {:.1f} ms after its fault; heap in "
                      "use {:.2f} MB at the start, {:.2f} MB at the end (resident {:.1f} -> {:.1f} MB); {}/soak.json\n",
-                     result.duration_s, result.trials.size(), j["rows"].get<long>(), result.faults.size(),
+                     options.simulated_time ? "simulated" : "real", result.duration_s, result.trials.size(), j["rows"].get<long>(), result.faults.size(),
                      j["faults_by_kind"].dump(), j["max_vent_after_ms"].get<double>(),
                      memory.front().heap_bytes / 1e6, memory.back().heap_bytes / 1e6,
                      memory.front().resident_bytes / 1e6, memory.back().resident_bytes / 1e6, options.out);
@@ -173,6 +178,9 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("--rest-s", trial_options->rest_s, "Vented pause before each run, while the subject holds the "
                                                                "wrist at neutral for zeroing [s]");
   trial_command->add_option("--max-kpa", trial_options->max_kpa, "The host's pressure limit (the device's applies too)");
+  trial_command->add_option("--timeout-ms", trial_options->timeout_ms,
+                            "The host's watchdog: no valid data, or no command of its own, for this long stops the "
+                            "trial (the device's applies too; the shorter wins); default 40");
   trial_command->add_option("--baud", trial_options->baud, "Serial speed");
   trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");
   trial_command->callback([trial_options, &out, &err] { trial(*trial_options, out, err); });
@@ -185,6 +193,9 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   soak_command->add_option("--fault-interval-s", soak_options->fault_interval_s, "Mean time between faults; default 20");
   soak_command->add_option("--seed", soak_options->seed, "Seed of the fault schedule");
   soak_command->add_option("--out", soak_options->out, "Directory for the trials and soak.json; default out/soak");
+  soak_command->add_flag("--simulated-time", soak_options->simulated_time,
+                         "Run the device, the line and the host on one simulated clock (the lock-step rig): exact "
+                         "and the same on any machine; default: real time over pseudo-terminals");
   soak_command->add_option("--config", soak_options->config, "Tracking experiment; default the planar rehearsal")
       ->check(CLI::ExistingFile);
   soak_command->add_option("--emulator", soak_options->emulator, "Emulator config; default the realistic device")

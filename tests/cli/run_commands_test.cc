@@ -130,6 +130,9 @@ TEST_F(CliRun, BridgeCommandsNameTheirBadArguments) {
   const auto too_high = run({"trial", config, "--device", "/dev/null", "--max-kpa", "500"});
   EXPECT_EQ(too_high.code, 2);
   EXPECT_THAT(too_high.err, HasSubstr("--max-kpa"));
+  const auto no_timeout = run({"trial", config, "--device", "/dev/null", "--timeout-ms", "0"});
+  EXPECT_EQ(no_timeout.code, 2);
+  EXPECT_THAT(no_timeout.err, HasSubstr("--timeout-ms must be 1..1000"));
   const auto not_a_tty = run({"trial", config, "--device", "/dev/null", "--out", (dir_ / "t").string()});
   EXPECT_EQ(not_a_tty.code, 1);
   EXPECT_THAT(not_a_tty.err, HasSubstr("/dev/null: not a serial device"));

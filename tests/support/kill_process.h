@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -14,9 +15,10 @@
 
 namespace softwrist::testing {
 
-// Starts argv (argv[0] a path; its output to /dev/null) and kills it with SIGKILL after `delay`. Returns whether it
-// was still running then.
-inline bool start_and_kill(const std::vector<std::string>& argv, std::chrono::milliseconds delay) {
+// Starts argv (argv[0] a path; its output to /dev/null) and kills it with SIGKILL once `ready()` holds (asked
+// every 5 ms) or `limit` has passed. Returns whether it was still running then.
+inline bool start_and_kill_when(const std::vector<std::string>& argv, const std::function<bool()>& ready,
+                                std::chrono::milliseconds limit) {
   const pid_t pid = fork();
   if (pid == 0) {
     std::vector<char*> args;
@@ -26,13 +28,23 @@ inline bool start_and_kill(const std::vector<std::string>& argv, std::chrono::mi
     execv(args[0], args.data());
     _exit(127);
   }
-  std::this_thread::sleep_for(delay);
-  const bool running = waitpid(pid, nullptr, WNOHANG) == 0;
+  const auto end = std::chrono::steady_clock::now() + limit;
+  bool running = true;
+  while (running && !ready() && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    running = waitpid(pid, nullptr, WNOHANG) == 0;
+  }
+  running = running && waitpid(pid, nullptr, WNOHANG) == 0;
   if (running) {
     kill(pid, SIGKILL);
     waitpid(pid, nullptr, 0);
   }
   return running;
+}
+
+// Starts argv and kills it with SIGKILL after `delay`. Returns whether it was still running then.
+inline bool start_and_kill(const std::vector<std::string>& argv, std::chrono::milliseconds delay) {
+  return start_and_kill_when(argv, [] { return false; }, delay);
 }
 
 }  // namespace softwrist::testing
