@@ -157,13 +157,16 @@ void DeviceEmulator::receive(const char* data, std::size_t size) {
   firmware_->received.insert(firmware_->received.end(), data, data + size);
 }
 
-void DeviceEmulator::send(const wire::Packet& packet, DeviceUart& uart) {
-  char buffer[wire::kMaxLine + 2];
-  const std::size_t dropped = uart.write(buffer, wire::format_packet(packet, buffer, sizeof buffer));
-  if (dropped > 0) {
+void DeviceEmulator::write(const char* data, std::size_t size, DeviceUart& uart) {
+  if (const std::size_t dropped = uart.write(data, size); dropped > 0) {
     std::lock_guard<std::mutex> lock(mutex_);
     stats_.bytes_dropped += static_cast<long>(dropped);
   }
+}
+
+void DeviceEmulator::send(const wire::Packet& packet, DeviceUart& uart) {
+  char buffer[wire::kMaxLine + 2];
+  write(buffer, wire::format_packet(packet, buffer, sizeof buffer), uart);
 }
 
 void DeviceEmulator::handle_line(std::uint32_t now, DeviceUart& uart) {
@@ -216,7 +219,7 @@ void DeviceEmulator::inject_faults(std::uint32_t t, DeviceUart& uart) {
   if (due(1, config_.faults.garbage_at_s)) {
     std::string junk(static_cast<std::size_t>(config_.faults.garbage_bytes), '\0');
     for (char& c : junk) c = static_cast<char>(fw.rng() & 0xFF);
-    uart.write(junk.data(), junk.size());
+    write(junk.data(), junk.size(), uart);
   }
   if (due(2, config_.faults.link_cut_at_s)) uart.cut();
 }

@@ -135,6 +135,7 @@ class DeviceEmulator {
   void inject_faults(std::uint32_t t, DeviceUart& uart);
   void sample_imus(std::uint32_t t, DeviceUart& uart);
   void update_outputs(std::uint32_t t);
+  void write(const char* data, std::size_t size, DeviceUart& uart);  // counts what the UART dropped
   void send(const wire::Packet& packet, DeviceUart& uart);
 
   EmulatorConfig config_;
