@@ -27,6 +27,7 @@ if [ "${1:-}" = "--tests" ]; then
     xvfb xauth libgl1-mesa-dri    # the GLFW viewer on a virtual display (xvfb-run), drawn by Mesa
     gcc-avr binutils-avr avr-libc arduino-core-avr  # the Arduino Uno firmware, compiled so that it cannot rot
     clang-14 libclang-rt-14-dev   # the fuzz targets: libFuzzer with ASan + UBSan (scripts/fuzz.sh)
+    clang-format-14               # the C++ style check (scripts/check_format.sh)
   )
 elif [ -n "${1:-}" ]; then
   echo "usage: $0 [--tests]" >&2

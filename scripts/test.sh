@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Set-up, build with warnings as errors, and run every test through CTest.
+# Set-up, the style checks (clang-format, no function over 80 lines), build with warnings as errors, and run every
+# test through CTest.
 #   bash scripts/test.sh             the normal build (build/test)
 #   bash scripts/test.sh --sanitize  the same tests under AddressSanitizer + UndefinedBehaviorSanitizer (build/asan)
 set -euo pipefail
@@ -22,6 +23,9 @@ elif [ -n "${1:-}" ]; then
   echo "usage: $0 [--sanitize]" >&2
   exit 2
 fi
+
+bash scripts/check_format.sh
+python3 scripts/check_function_length.py --max 80 src plugins firmware
 
 cmake -S . -B "$build_dir" "${options[@]}" >/dev/null
 cmake --build "$build_dir" -j2

@@ -23,6 +23,7 @@
 #include <mujoco/mujoco.h>
 
 #include "fpam_actuator.h"
+#include "mujoco_names.h"
 #include "plugin_config.h"
 
 #define SOFTWRIST_PLUGIN_EXPORT extern "C" __attribute__((visibility("default")))
@@ -87,11 +88,6 @@ mjtNum ActBias(const mjModel* m, const mjData* d, int id) {
   return -fpam->Force(d->actuator_length[id], d->act[ActivationIndex(m, id)]);
 }
 
-std::string ActuatorName(const mjModel* m, int id) {
-  const char* name = mj_id2name(m, mjOBJ_ACTUATOR, id);
-  return name != nullptr ? name : "#" + std::to_string(id);
-}
-
 void CopyError(const std::string& message, char* error, int error_size) {
   if (error == nullptr || error_size <= 0) return;
   const std::size_t n = std::min(message.size(), static_cast<std::size_t>(error_size - 1));
@@ -128,23 +124,23 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
   auto instances = std::make_shared<Instances>(static_cast<std::size_t>(m->nu));
   int count = 0;
   for (int id = 0; id < m->nu; ++id) {
-    const int text = mj_name2id(m, mjOBJ_TEXT, config_text_name(ActuatorName(m, id)).c_str());
+    const int text = mj_name2id(m, mjOBJ_TEXT, config_text_name(actuator_name(m, id)).c_str());
     if (text < 0) continue;
     std::string message;
     const auto config = PluginConfig::Parse(m->text_data + m->text_adr[text], &message);
     if (!config) {
-      CopyError("actuator '" + ActuatorName(m, id) + "': " + message, error, error_size);
+      CopyError("actuator '" + actuator_name(m, id) + "': " + message, error, error_size);
       return -1;
     }
     if (config->plugin_name() != FpamActuator::kPluginName) continue;
     if (m->actuator_dyntype[id] != mjDYN_USER || m->actuator_gaintype[id] != mjGAIN_USER ||
         m->actuator_biastype[id] != mjBIAS_USER) {
-      CopyError("actuator '" + ActuatorName(m, id) +
+      CopyError("actuator '" + actuator_name(m, id) +
                     "': softwrist.fpam needs dyntype, gaintype and biastype 'user'",
                 error, error_size);
       return -1;
     }
-    auto actuator = FpamActuator::Create(*config, ActuatorName(m, id), &message);
+    auto actuator = FpamActuator::Create(*config, actuator_name(m, id), &message);
     if (!actuator) {
       CopyError(message, error, error_size);
       return -1;

@@ -6,8 +6,14 @@
 
 #include <fmt/format.h>
 
+#include "physics/exosuit_layout.h"
+
 namespace softwrist::bridge {
 namespace {
+
+// safety_gate.h is freestanding (the firmware compiles it), so it states the regulators' range in its own units.
+static_assert(wire::SafetyLimits().max_dkpa == static_cast<int32_t>(physics::kRegulatorMaxPressureKpa * 10.0),
+              "the device's pressure limit is the regulators' range");
 
 // The stricter of two sets of limits.
 wire::SafetyLimits stricter(const wire::SafetyLimits& a, const wire::SafetyLimits& b) {
@@ -49,7 +55,7 @@ BridgePlant::BridgePlant(std::unique_ptr<Link> link, const Clock& clock, BridgeO
 BridgePlant::~BridgePlant() {
   if (link_lost_) return;
   try {
-    send('E', nullptr, 0);
+    send(wire::kStopPacket, nullptr, 0);
   } catch (...) {  // the device's own watchdog vents when this does not arrive
   }
 }
@@ -85,7 +91,7 @@ void BridgePlant::fault(const std::string& cause) {
                                   gate_.limits().timeout_ms));
   }
   try {
-    send('E', nullptr, 0);
+    send(wire::kStopPacket, nullptr, 0);
   } catch (const BridgeFault&) {
     throw BridgeFault(fmt::format("{}: {}; the link is gone too, the device's watchdog vents within {} ms",
                                   link_->name(), cause, gate_.limits().timeout_ms));
@@ -144,7 +150,7 @@ DeviceInfo BridgePlant::start_session() {
     }
     if (now >= next_hello) {
       const int32_t version = wire::kProtocolVersion;
-      send('H', &version, 1);
+      send(wire::kHelloPacket, &version, 1);
       next_hello = now + options_.hello_interval_s;
     }
     pump(static_cast<int>(std::ceil(1000.0 * std::min(next_hello, deadline) - 1000.0 * now)));
@@ -172,7 +178,7 @@ DeviceInfo BridgePlant::start_session() {
 
 void BridgePlant::end_session() {
   session_ = false;
-  if (!link_lost_) send('E', nullptr, 0);
+  if (!link_lost_) send(wire::kStopPacket, nullptr, 0);
 }
 
 void BridgePlant::check_data_fresh() {
@@ -206,7 +212,7 @@ void BridgePlant::command_pressures_kpa(const control::Pressures& pressures) {
                       gate_.limits().timeout_ms));
   }
   last_command_ms_ = now;
-  send('S', output, 4);
+  send(wire::kSetPacket, output, 4);
   ++stats_.commands_sent;
 }
 

@@ -30,9 +30,9 @@
 
 namespace softwrist::bridge {
 
-class BridgeFault : public std::runtime_error {
+class BridgeFault : public control::PlantFault {
  public:
-  using std::runtime_error::runtime_error;
+  using control::PlantFault::PlantFault;
 };
 
 struct BridgeOptions {

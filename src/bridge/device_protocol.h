@@ -16,7 +16,7 @@ class DeviceProtocol {
  public:
   explicit DeviceProtocol(SafetyGate* gate) : gate_(gate), host_seq_(0), device_seq_(0), host_seq_seen_(false) {}
 
-  // Handles one line from the host at `now_ms`. Returns the type of the packet acted on ('H', 'S' or 'E'), or 0
+  // Handles one line from the host at `now_ms`. Returns the type of the packet acted on (kHelloPacket, kSetPacket or kStopPacket), or 0
   // when the line was rejected. Writes the answer to send into `reply` (V for a hello, R for a rejection) and sets
   // `*has_reply`.
   char handle_line(const char* line, size_t length, uint32_t now_ms, Packet* reply, bool* has_reply) {
@@ -24,16 +24,16 @@ class DeviceProtocol {
     Packet p;
     const ParseError error = parse_line(line, length, &p);
     if (error != kOk) return reject(error, reply);
-    if (p.type != 'H' && p.type != 'S' && p.type != 'E') return reject(kUnknownType, reply);
+    if (p.type != kHelloPacket && p.type != kSetPacket && p.type != kStopPacket) return reject(kUnknownType, reply);
     // A hello may restart the count (a new host process); anything else must be newer than the last packet.
-    if (p.type != 'H' && host_seq_seen_ && !is_newer(p.seq, host_seq_)) return reject(kOutOfSequence, reply);
-    if (p.type == 'H' && p.fields[0] != kProtocolVersion) return reject(kOutOfRange, reply);
+    if (p.type != kHelloPacket && host_seq_seen_ && !is_newer(p.seq, host_seq_)) return reject(kOutOfSequence, reply);
+    if (p.type == kHelloPacket && p.fields[0] != kProtocolVersion) return reject(kOutOfRange, reply);
     host_seq_ = p.seq;
     host_seq_seen_ = true;
     *has_reply = false;
-    if (p.type == 'H') {
+    if (p.type == kHelloPacket) {
       gate_->start_session(now_ms);
-      reply->type = 'V';
+      reply->type = kHelloReplyPacket;
       reply->seq = device_seq_++;
       reply->count = 4;
       reply->fields[0] = kProtocolVersion;
@@ -41,7 +41,7 @@ class DeviceProtocol {
       reply->fields[2] = gate_->limits().rate_dkpa_s;
       reply->fields[3] = static_cast<int32_t>(gate_->limits().timeout_ms);
       *has_reply = true;
-    } else if (p.type == 'S') {
+    } else if (p.type == kSetPacket) {
       gate_->command(p.fields, now_ms);
     } else {
       gate_->emergency_stop();
@@ -52,7 +52,7 @@ class DeviceProtocol {
   // The 100 Hz data packet: the IMU pair's wrist angles [0.01 deg], the measured pressures [dkPa], the status.
   Packet data_packet(uint32_t now_ms, int32_t fe_cdeg, int32_t ur_cdeg, const int32_t measured_dkpa[4]) {
     Packet d;
-    d.type = 'D';
+    d.type = kDataPacket;
     d.seq = device_seq_++;
     d.count = 8;
     d.fields[0] = static_cast<int32_t>(now_ms);
@@ -65,7 +65,7 @@ class DeviceProtocol {
 
  private:
   char reject(uint8_t reason, Packet* reply) {
-    reply->type = 'R';
+    reply->type = kRejectPacket;
     reply->seq = device_seq_++;
     reply->count = 1;
     reply->fields[0] = reason;

@@ -39,16 +39,16 @@ class HostProtocol {
  public:
   DeviceLine handle_line(const char* line, std::size_t length) {
     wire::Packet p;
-    if (wire::parse_line(line, length, &p) != wire::kOk || (p.type != 'V' && p.type != 'D' && p.type != 'R')) {
+    if (wire::parse_line(line, length, &p) != wire::kOk || (p.type != wire::kHelloReplyPacket && p.type != wire::kDataPacket && p.type != wire::kRejectPacket)) {
       return DeviceLine::kGarbled;
     }
-    if (p.type == 'D' && !plausible_data(p)) return DeviceLine::kGarbled;
+    if (p.type == wire::kDataPacket && !plausible_data(p)) return DeviceLine::kGarbled;
     // A V packet answers our hello and may come from a device that restarted its count; anything else must be newer.
-    if (p.type != 'V' && seq_seen_ && !wire::is_newer(p.seq, seq_)) return DeviceLine::kOutOfSequence;
+    if (p.type != wire::kHelloReplyPacket && seq_seen_ && !wire::is_newer(p.seq, seq_)) return DeviceLine::kOutOfSequence;
     seq_ = p.seq;
     seq_seen_ = true;
-    if (p.type == 'R') return DeviceLine::kRejection;
-    if (p.type == 'V') {
+    if (p.type == wire::kRejectPacket) return DeviceLine::kRejection;
+    if (p.type == wire::kHelloReplyPacket) {
       device_.version = p.fields[0];
       device_.limits.max_dkpa = p.fields[1];
       device_.limits.rate_dkpa_s = p.fields[2];

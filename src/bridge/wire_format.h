@@ -21,6 +21,14 @@ namespace softwrist {
 namespace wire {
 
 const int kProtocolVersion = 1;
+
+// Packet types: the TYPE letter of each packet above.
+const char kHelloPacket = 'H';       // host to device
+const char kSetPacket = 'S';         // host to device
+const char kStopPacket = 'E';        // host to device: emergency stop
+const char kHelloReplyPacket = 'V';  // device to host
+const char kDataPacket = 'D';        // device to host
+const char kRejectPacket = 'R';      // device to host
 const size_t kMaxLine = 96;  // longer lines are garbage
 const int kMaxFields = 9;
 
@@ -56,12 +64,12 @@ struct Packet {
 // The number of fields after SEQ for each type, or -1 for an unknown type.
 inline int field_count(char type) {
   switch (type) {
-    case 'H': return 1;
-    case 'S': return 4;
-    case 'E': return 0;
-    case 'V': return 4;
-    case 'D': return 8;
-    case 'R': return 1;
+    case kHelloPacket: return 1;
+    case kSetPacket: return 4;
+    case kStopPacket: return 0;
+    case kHelloReplyPacket: return 4;
+    case kDataPacket: return 8;
+    case kRejectPacket: return 1;
     default: return -1;
   }
 }

@@ -7,10 +7,11 @@
 
 #include <fmt/format.h>
 
+#include "physics/exosuit_layout.h"
 #include "bridge/bridge_plant.h"
-#include "bridge/device_emulator.h"
-#include "bridge/hardware_trial.h"
-#include "bridge/soak.h"
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/hardware_trial.h"
+#include "bridge_apps/soak.h"
 #include "cli/arguments.h"
 #include "cli/stop_signals.h"
 #include "experiments/experiment.h"
@@ -31,7 +32,7 @@ struct TrialCommandOptions {
   std::vector<std::string> controllers;
   int repetitions = 0;
   double rest_s = 1.0;
-  double max_kpa = 137.0;
+  double max_kpa = physics::kRegulatorMaxPressureKpa;
   int timeout_ms = 40;
   int baud = 115200;
   bool overwrite = false;
@@ -81,7 +82,7 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
 void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
   if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
   if (!(options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
-  if (!(options.max_kpa > 0.0 && options.max_kpa <= 137.0)) {
+  if (!(options.max_kpa > 0.0 && options.max_kpa <= physics::kRegulatorMaxPressureKpa)) {
     throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
   }
   const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);

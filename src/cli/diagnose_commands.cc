@@ -130,8 +130,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
     row.radius *= o.r0_scale;
     row.max_contraction += o.eps_max_shift;
   }
-  d.fpam = rows.size() == 1 ? physics::FpamParameters::Constant(rows[0].radius, rows[0].max_contraction, d.fpam.fabric())
-                            : physics::FpamParameters::Table(rows, d.fpam.fabric());
+  d.fpam = d.fpam.with_rows(std::move(rows));
   sim::parse_device(sim::device_to_json(d), "the synthesized device");  // validates the edited description
   diagnosis::write_synthetic_data(
       real,

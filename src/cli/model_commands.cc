@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "physics/exosuit_layout.h"
 #include "cli/arguments.h"
 #include "physics/paper_parameters.h"
 #include "physics/range_of_motion.h"
@@ -107,7 +108,7 @@ physics::Placement parse_placement_cm(const std::string& text, std::string_view 
 // --- model torque ------------------------------------------------------------------------------------------------
 
 struct TorqueOptions {
-  double pressure_kpa = 137.0;
+  double pressure_kpa = physics::kRegulatorMaxPressureKpa;
   std::string angles = "-67.5:90:22.5";
   std::string placement = "19.47,4.93,8.30,3.38";
   double l0_cm = 32.0;
@@ -122,10 +123,9 @@ struct TorqueOptions {
 int run_torque(const TorqueOptions& options, std::ostream& out) {
   const double pressure = checked_pressure_pa(options.pressure_kpa);
   const auto angles_deg = parse_angle_range_deg(options.angles, "--angles");
-  physics::Muscle muscle{.placement = parse_placement_cm(options.placement, "--placement"),
-                         .rest_length = cm_to_m(options.l0_cm),
-                         .wrist_radius = cm_to_m(options.rw_cm),
-                         .fpam = build_fpam(options.fpam, paper::tensile_fpam())};
+  physics::Muscle muscle{{.fpam = build_fpam(options.fpam, paper::tensile_fpam()), .rest_length = cm_to_m(options.l0_cm)},
+                         parse_placement_cm(options.placement, "--placement"),
+                         cm_to_m(options.rw_cm)};
   if (options.l0_angle->count() > 0) {
     muscle.rest_length =
         physics::rest_length_for_range(muscle.placement, muscle.wrist_radius, deg_to_rad(options.l0_angle_deg));
@@ -164,7 +164,7 @@ int run_torque(const TorqueOptions& options, std::ostream& out) {
 // --- model rom ---------------------------------------------------------------------------------------------------
 
 struct RomOptions {
-  double pressure_kpa = 137.0;
+  double pressure_kpa = physics::kRegulatorMaxPressureKpa;
   double rw_cm = units::m_to_cm(paper::kRomWristRadius);
   FpamOptions fpam;
   StretchOptions stretch;
@@ -306,7 +306,7 @@ int run_tables(const std::string& out_dir, std::ostream& out) {
 
   write_file(dir / "model_tables.md", markdown);
   write_file(dir / "torque.json", torque_record.dump(2) + "\n");
-  write_file(dir / "rom.json", rom_json(rom_rows, 137.0).dump(2) + "\n");
+  write_file(dir / "rom.json", rom_json(rom_rows, physics::kRegulatorMaxPressureKpa).dump(2) + "\n");
   out << markdown << fmt::format("\nWrote {}/model_tables.md, torque.json, rom.json\n", dir.string());
   return 0;
 }

@@ -18,6 +18,7 @@
 // falls as the wrist moves their way) holds the wrist at the reference as a spring would, and the PID only corrects
 // what the model misses.
 
+#include "physics/exosuit_layout.h"
 #include "control/controller.h"
 #include "physics/wrist_statics.h"
 
@@ -25,7 +26,7 @@ namespace softwrist::control {
 
 struct ModelBasedParameters {
   double period_s = 0.014;                 // the paper's loop period
-  double max_kpa = 137.0;                  // regulator range
+  double max_kpa = physics::kRegulatorMaxPressureKpa;  // regulator range
   double co_contraction_kpa = 5.0;         // both muscles of a pair at zero demand
   double reference_bandwidth_rad_s = 6.0;  // w of the reference filter: 10-90 % in 0.56 s
   double kp_nm_per_rad = 0.5;

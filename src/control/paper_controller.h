@@ -5,6 +5,7 @@
 // antagonist's pressure falls twice as fast while it is above 13.8 kPa; all muscles start at 13.8 kPa; pressures
 // stay within the regulators' range. Pure: no plant, no clock.
 
+#include "physics/exosuit_layout.h"
 #include "control/controller.h"
 
 namespace softwrist::control {
@@ -14,7 +15,7 @@ struct PaperControllerParameters {
   double gain_kpa_per_deg = 0.0083;  // G
   double initial_kpa = 13.8;         // initial pressure of every muscle, also the fast-release threshold
   double release_factor = 2.0;       // "decrease twice as fast" above the threshold
-  double max_kpa = 137.0;            // regulator range
+  double max_kpa = physics::kRegulatorMaxPressureKpa;  // regulator range
 };
 
 class PaperController final : public Controller {

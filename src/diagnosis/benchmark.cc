@@ -34,11 +34,6 @@ class Draw {
   std::mt19937_64 rng_;
 };
 
-void set_fpam_rows(sim::DeviceDescription& d, std::vector<physics::FpamTableRow> rows) {
-  d.fpam = rows.size() == 1 ? physics::FpamParameters::Constant(rows[0].radius, rows[0].max_contraction, d.fpam.fabric())
-                            : physics::FpamParameters::Table(std::move(rows), d.fpam.fabric());
-}
-
 // Small differences between two exosuits built to one description, each scaled by `scale` (at 1: fabric cut and
 // bladder 0.1 % of r0, eps_max 0.0005, strap position over the wrist 0.1 %, the relaxed wrist from day to day 1 %
 // stiffness and 2 % damping, regulator 1 %, mount stiffness 2 %). Assumed, and chosen below what one data set of the
@@ -51,7 +46,7 @@ void vary_device(sim::DeviceDescription& d, Draw& draw, double scale) {
     row.radius *= r0;
     row.max_contraction += eps;
   }
-  set_fpam_rows(d, std::move(rows));
+  d.fpam = d.fpam.with_rows(std::move(rows));
   const double wrist = 1.0 + draw.normal(0.001 * scale);
   for (auto& m : d.muscles) m.wrist_radius *= wrist;
   d.wrist.stiffness_fe *= 1.0 + draw.normal(0.01 * scale);
@@ -86,7 +81,7 @@ std::string inject(const std::string& injected, SyntheticDevice& real, Draw& dra
       row.radius *= r0 + draw.normal(0.01);
       row.max_contraction += shift * (0.5 + row.pressure / p_max);
     }
-    set_fpam_rows(d, std::move(rows));
+    d.fpam = d.fpam.with_rows(std::move(rows));
     return fmt::format("r0 x {:.3f} (+-0.01 per row), eps_max {:+.4f} x (0.5 + p/p_max)", r0, shift);
   }
   if (injected == "regulator_lag") {

@@ -101,9 +101,7 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
         row.max_contraction = std::clamp(row.max_contraction + values[1], 0.01,
                                          physics::max_contraction_upper_bound() - 1e-6);
       }
-      device.fpam = rows.size() == 1
-                        ? physics::FpamParameters::Constant(rows[0].radius, rows[0].max_contraction, device.fpam.fabric())
-                        : physics::FpamParameters::Table(std::move(rows), device.fpam.fabric());
+      device.fpam = device.fpam.with_rows(std::move(rows));
       break;
     }
     case EffectId::kRegulatorLag:

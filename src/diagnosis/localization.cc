@@ -114,119 +114,162 @@ void add_bands(const PreparedTrial& trial, const std::vector<double>& residuals,
   }
 }
 
+// Where the entries of one trial go: each the group test of some of its points.
+struct TrialEntries {
+  const PreparedTrial& trial;
+  const std::vector<double>& residuals;
+  std::vector<LocalizationEntry>& out;
+
+  void add(const Members& members, std::string where, double angle = NAN, double pressure = NAN) const {
+    LocalizationEntry e = group_test(trial, residuals, members);
+    e.where = std::move(where);
+    e.angle_deg = angle;
+    e.pressure_kpa = pressure;
+    out.push_back(std::move(e));
+  }
+};
+
+// Whether the nominal device's `muscle` wraps around the wrist at `angle_deg`.
+bool nominal_path_wraps(const sim::DeviceDescription& nominal, int muscle, double angle_deg) {
+  const auto& mount = nominal.muscles[static_cast<std::size_t>(muscle)];
+  return physics::muscle_path(mount.placement, mount.wrist_radius,
+                              physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) *
+                                  units::deg_to_rad(angle_deg))
+             .regime == physics::Regime::kWrapping;
+}
+
+// Each held angle (the mean of its cluster), and each regime of the nominal path.
+void add_held_angles(const TrialEntries& entries, const sim::DeviceDescription& nominal) {
+  const PreparedTrial& trial = entries.trial;
+  std::map<int, std::pair<double, Members>> by_unit;
+  for (std::size_t i = 0; i < trial.points.size(); ++i) {
+    auto& u = by_unit[trial.points[i].unit];
+    u.first += trial.points[i].angle_deg;
+    u.second.push_back(i);
+  }
+  std::map<bool, Members> by_regime;
+  for (auto& [unit, u] : by_unit) {
+    const double angle = u.first / static_cast<double>(u.second.size());
+    const int muscle = trial.points[u.second.front()].muscle;
+    const bool wrapping = nominal_path_wraps(nominal, muscle, angle);
+    entries.add(u.second,
+                fmt::format("{} angle {:.1f} deg ({})", sim::kMuscleNames[static_cast<std::size_t>(muscle)], angle,
+                            wrapping ? "wrapping" : "straight"),
+                angle);
+    auto& regime = by_regime[wrapping];
+    regime.insert(regime.end(), u.second.begin(), u.second.end());
+  }
+  for (const auto& [wrapping, members] : by_regime) {
+    entries.add(members, wrapping ? "wrapping regime" : "straight regime");
+  }
+}
+
+void add_pressures(const TrialEntries& entries) {
+  for (const auto& [kpa, members] :
+       split<long>(entries.trial, [](const Point& p) { return std::lround(p.pressure_kpa); })) {
+    entries.add(members, fmt::format("pressure {} kPa", kpa), NAN, static_cast<double>(kpa));
+  }
+}
+
+// The residual map: each held angle at each pressure.
+void add_residual_map(const TrialEntries& entries) {
+  const PreparedTrial& trial = entries.trial;
+  for (const auto& [group, members] : split<int>(trial, [](const Point& p) { return p.group; })) {
+    double angle = 0.0;
+    for (std::size_t i : members) angle += trial.points[i].angle_deg;
+    angle /= static_cast<double>(members.size());
+    const double kpa = trial.points[members.front()].pressure_kpa;
+    entries.add(members, fmt::format("angle {:.1f} deg at {:.0f} kPa", angle, kpa), angle, kpa);
+  }
+}
+
+void add_range_of_motion_muscles(const TrialEntries& entries) {
+  for (const auto& [muscle, members] : split<int>(entries.trial, [](const Point& p) { return p.muscle; })) {
+    entries.add(members, fmt::format("{} muscle", sim::kMuscleNames[static_cast<std::size_t>(muscle)]));
+  }
+}
+
+void add_tensile_motions_and_contractions(const TrialEntries& entries) {
+  for (const auto& [motion, members] : split<int>(entries.trial, [](const Point& p) { return p.motion; })) {
+    entries.add(members, motion > 0 ? "loading" : "unloading");
+  }
+  for (const auto& [bin, members] :
+       split<long>(entries.trial, [](const Point& p) { return std::lround(std::floor(p.contraction / 0.05)); })) {
+    entries.add(members, fmt::format("contraction {:.2f}-{:.2f}", 0.05 * bin, 0.05 * (bin + 1)));
+  }
+}
+
+// Each muscle's regulator: filling, venting, holding, and the frequency bands.
+void add_pressure_channels(const TrialEntries& entries) {
+  for (int channel = 2; channel < 6; ++channel) {
+    for (const auto& [motion, members] : split<int>(entries.trial, [&](const Point& p) -> std::optional<int> {
+           if (p.channel != channel) return std::nullopt;
+           return p.motion;
+         })) {
+      entries.add(members, fmt::format("{} {}", channel_name(channel),
+                                       motion == 0 ? "steady" : (motion > 0 ? "filling" : "venting")));
+    }
+    add_bands(entries.trial, entries.residuals, channel, entries.out);
+  }
+}
+
+// Each angle axis: 10-degree bins of the angle, the direction of motion, and the frequency bands.
+void add_angle_channels(const TrialEntries& entries) {
+  for (int channel = 0; channel < 2; ++channel) {
+    const auto in_channel = [channel](const Point& p) { return p.channel == channel; };
+    for (const auto& [bin, members] : split<long>(entries.trial, [&](const Point& p) -> std::optional<long> {
+           if (!in_channel(p)) return std::nullopt;
+           return std::lround(std::floor(p.angle_deg / 10.0));
+         })) {
+      entries.add(members, fmt::format("{} {} to {} deg", channel_name(channel), 10 * bin, 10 * (bin + 1)),
+                  10.0 * static_cast<double>(bin) + 5.0);
+    }
+    for (const auto& [motion, members] : split<int>(entries.trial, [&](const Point& p) -> std::optional<int> {
+           if (!in_channel(p)) return std::nullopt;
+           return p.motion;
+         })) {
+      const char* direction = motion == 0 ? "at rest" : (motion > 0 ? (channel == 0 ? "flexing" : "moving ulnar")
+                                                                    : (channel == 0 ? "extending" : "moving radial"));
+      entries.add(members, fmt::format("{} {}", channel_name(channel), direction));
+    }
+    add_bands(entries.trial, entries.residuals, channel, entries.out);
+  }
+}
+
+void add_trial_entries(const TrialEntries& entries, const sim::DeviceDescription& nominal) {
+  Members all(entries.trial.points.size());
+  std::iota(all.begin(), all.end(), 0);
+  entries.add(all, "all");
+  switch (entries.trial.trial->kind) {
+    case TrialKind::kTorqueSweep:
+      add_held_angles(entries, nominal);
+      add_pressures(entries);
+      add_residual_map(entries);
+      break;
+    case TrialKind::kRangeOfMotion:
+      add_range_of_motion_muscles(entries);
+      break;
+    case TrialKind::kTensile:
+      add_pressures(entries);
+      add_tensile_motions_and_contractions(entries);
+      break;
+    case TrialKind::kTrajectory:
+      if (entries.trial.pressures) {
+        add_pressure_channels(entries);
+      } else {
+        add_angle_channels(entries);
+      }
+      break;
+  }
+}
+
 }  // namespace
 
 std::vector<LocalizationEntry> localize(const std::vector<PreparedTrial>& trials,
                                         const std::vector<std::vector<double>>& residuals,
                                         const sim::DeviceDescription& nominal, double alpha) {
   std::vector<LocalizationEntry> out;
-  const auto add = [&](const PreparedTrial& trial, const std::vector<double>& r, const Members& members,
-                       std::string where, double angle = NAN, double pressure = NAN) {
-    LocalizationEntry e = group_test(trial, r, members);
-    e.where = std::move(where);
-    e.angle_deg = angle;
-    e.pressure_kpa = pressure;
-    out.push_back(std::move(e));
-  };
-  for (std::size_t ti = 0; ti < trials.size(); ++ti) {
-    const PreparedTrial& trial = trials[ti];
-    const std::vector<double>& r = residuals[ti];
-    Members all(trial.points.size());
-    std::iota(all.begin(), all.end(), 0);
-    add(trial, r, all, "all");
-    switch (trial.trial->kind) {
-      case TrialKind::kTorqueSweep: {
-        // Each held angle (the mean of its cluster), pressure, and regime of the nominal path.
-        std::map<int, std::pair<double, Members>> by_unit;
-        for (std::size_t i = 0; i < trial.points.size(); ++i) {
-          auto& u = by_unit[trial.points[i].unit];
-          u.first += trial.points[i].angle_deg;
-          u.second.push_back(i);
-        }
-        std::map<bool, Members> by_regime;
-        for (auto& [unit, u] : by_unit) {
-          const double angle = u.first / static_cast<double>(u.second.size());
-          const int muscle = trial.points[u.second.front()].muscle;
-          const auto& mount = nominal.muscles[static_cast<std::size_t>(muscle)];
-          const bool wrapping =
-              physics::muscle_path(mount.placement, mount.wrist_radius,
-                                   sim::direction_of(static_cast<sim::MuscleIndex>(muscle)) *
-                                       units::deg_to_rad(angle))
-                  .regime == physics::Regime::kWrapping;
-          add(trial, r, u.second,
-              fmt::format("{} angle {:.1f} deg ({})", sim::kMuscleNames[static_cast<std::size_t>(muscle)], angle,
-                          wrapping ? "wrapping" : "straight"),
-              angle);
-          auto& regime = by_regime[wrapping];
-          regime.insert(regime.end(), u.second.begin(), u.second.end());
-        }
-        for (const auto& [wrapping, members] : by_regime) add(trial, r, members, wrapping ? "wrapping regime" : "straight regime");
-        for (const auto& [kpa, members] : split<long>(trial, [](const Point& p) { return std::lround(p.pressure_kpa); })) {
-          add(trial, r, members, fmt::format("pressure {} kPa", kpa), NAN, static_cast<double>(kpa));
-        }
-        // The residual map: each held angle at each pressure.
-        for (const auto& [group, members] : split<int>(trial, [](const Point& p) { return p.group; })) {
-          double angle = 0.0;
-          for (std::size_t i : members) angle += trial.points[i].angle_deg;
-          angle /= static_cast<double>(members.size());
-          const double kpa = trial.points[members.front()].pressure_kpa;
-          add(trial, r, members, fmt::format("angle {:.1f} deg at {:.0f} kPa", angle, kpa), angle, kpa);
-        }
-        break;
-      }
-      case TrialKind::kRangeOfMotion:
-        for (const auto& [muscle, members] : split<int>(trial, [](const Point& p) { return p.muscle; })) {
-          add(trial, r, members, fmt::format("{} muscle", sim::kMuscleNames[static_cast<std::size_t>(muscle)]));
-        }
-        break;
-      case TrialKind::kTensile:
-        for (const auto& [kpa, members] : split<long>(trial, [](const Point& p) { return std::lround(p.pressure_kpa); })) {
-          add(trial, r, members, fmt::format("pressure {} kPa", kpa), NAN, static_cast<double>(kpa));
-        }
-        for (const auto& [motion, members] : split<int>(trial, [](const Point& p) { return p.motion; })) {
-          add(trial, r, members, motion > 0 ? "loading" : "unloading");
-        }
-        for (const auto& [bin, members] :
-             split<long>(trial, [](const Point& p) { return std::lround(std::floor(p.contraction / 0.05)); })) {
-          add(trial, r, members, fmt::format("contraction {:.2f}-{:.2f}", 0.05 * bin, 0.05 * (bin + 1)));
-        }
-        break;
-      case TrialKind::kTrajectory:
-        if (trial.pressures) {  // each muscle's regulator: filling, venting, holding, and the frequency bands
-          for (int channel = 2; channel < 6; ++channel) {
-            for (const auto& [motion, members] : split<int>(trial, [&](const Point& p) -> std::optional<int> {
-                   if (p.channel != channel) return std::nullopt;
-                   return p.motion;
-                 })) {
-              add(trial, r, members,
-                  fmt::format("{} {}", channel_name(channel), motion == 0 ? "steady" : (motion > 0 ? "filling" : "venting")));
-            }
-            add_bands(trial, r, channel, out);
-          }
-          break;
-        }
-        for (int channel = 0; channel < 2; ++channel) {
-          const auto in_channel = [channel](const Point& p) { return p.channel == channel; };
-          for (const auto& [bin, members] : split<long>(trial, [&](const Point& p) -> std::optional<long> {
-                 if (!in_channel(p)) return std::nullopt;
-                 return std::lround(std::floor(p.angle_deg / 10.0));
-               })) {
-            add(trial, r, members, fmt::format("{} {} to {} deg", channel_name(channel), 10 * bin, 10 * (bin + 1)),
-                10.0 * static_cast<double>(bin) + 5.0);
-          }
-          for (const auto& [motion, members] : split<int>(trial, [&](const Point& p) -> std::optional<int> {
-                 if (!in_channel(p)) return std::nullopt;
-                 return p.motion;
-               })) {
-            const char* direction = motion == 0 ? "at rest" : (motion > 0 ? (channel == 0 ? "flexing" : "moving ulnar")
-                                                                          : (channel == 0 ? "extending" : "moving radial"));
-            add(trial, r, members, fmt::format("{} {}", channel_name(channel), direction));
-          }
-          add_bands(trial, r, channel, out);
-        }
-        break;
-    }
-  }
+  for (std::size_t ti = 0; ti < trials.size(); ++ti) add_trial_entries({trials[ti], residuals[ti], out}, nominal);
   const double tests = static_cast<double>(std::max<std::size_t>(1, out.size()));
   for (auto& e : out) e.significant = e.p_value < alpha / tests;
   std::stable_sort(out.begin(), out.end(), [](const LocalizationEntry& a, const LocalizationEntry& b) {

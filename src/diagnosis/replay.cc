@@ -302,8 +302,8 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
         changed = true;
       }
       if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
-      result->fe.push_back(wrist.angle(sim::WristJoint::kFlexionExtension));
-      result->ur.push_back(wrist.angle(sim::WristJoint::kUlnarRadial));
+      result->fe.push_back(wrist.angle(physics::WristAxis::kFlexionExtension));
+      result->ur.push_back(wrist.angle(physics::WristAxis::kUlnarRadial));
       for (std::size_t m = 0; m < 4; ++m) {
         result->pressure_kpa[m].push_back(wrist.regulated_pressure_kpa(static_cast<sim::MuscleIndex>(m)));
       }
@@ -336,9 +336,9 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial&
       double still_since = 0.0;
       while (wrist.time() < kRomSettle - 1e-9 && (wrist.time() < 1.0 || wrist.time() - still_since < 0.5)) {
         wrist.run(0.05);
-        if (std::abs(wrist.velocity(sim::joint_of(muscle))) > 1.7e-3) still_since = wrist.time();
+        if (std::abs(wrist.velocity(physics::axis_of(muscle))) > 1.7e-3) still_since = wrist.time();
       }
-      result->fe.push_back(rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle))));
+      result->fe.push_back(rad_to_deg(physics::direction_of(muscle) * wrist.angle(physics::axis_of(muscle))));
     }
     return std::shared_ptr<const Simulated>(std::move(result));
   });
@@ -355,7 +355,7 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
       for (std::size_t i = 0; i < trial.sweep.size(); ++i) {
         const SweepPoint& s = trial.sweep[i];
         if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-        out[i] = physics::muscle_state(*muscles[s.muscle], sim::direction_of(s.muscle) * s.angle, s.pressure).torque;
+        out[i] = physics::muscle_state(*muscles[s.muscle], physics::direction_of(s.muscle) * s.angle, s.pressure).torque;
       }
       break;
     }

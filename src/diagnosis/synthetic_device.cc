@@ -88,7 +88,7 @@ void write_rom(const SyntheticDevice& real, const SyntheticPlan& plan, const sim
     command[static_cast<std::size_t>(m)] = 137.0;
     wrist.command_pressures_kpa(command);
     wrist.run(6.0);  // settled: the same wrist settles the same way every repetition; only the measurement differs
-    const double limit = rad_to_deg(sim::direction_of(muscle) * wrist.angle(sim::joint_of(muscle)));
+    const double limit = rad_to_deg(physics::direction_of(muscle) * wrist.angle(physics::axis_of(muscle)));
     for (int rep = 0; rep < plan.repetitions; ++rep) {
       log.write_row({std::to_string(rep), sim::kMuscleNames[static_cast<std::size_t>(m)], "137",
                      format_number(limit + plan.noise.rom_deg * normal(rng))});
@@ -159,7 +159,7 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
       for (std::size_t m = 0; m < 4; ++m) command[m] = prefiltered[m] += a * (command[m] - prefiltered[m]);
     }
     wrist.command_pressures_kpa(command);
-    history.push_back({wrist.angle(sim::WristJoint::kFlexionExtension), wrist.angle(sim::WristJoint::kUlnarRadial)});
+    history.push_back({wrist.angle(physics::WristAxis::kFlexionExtension), wrist.angle(physics::WristAxis::kUlnarRadial)});
     if (t + 1e-9 >= next_row) {
       const double late = real.imu_latency + (real.imu_latency_jitter > 0.0 ? jitter(rng) : 0.0);
       const double sampled = std::max(0.0, std::floor((t - late) / imu_period + 1e-9) * imu_period);

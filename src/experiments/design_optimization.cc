@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "physics/exosuit_layout.h"
 #include "io/csv.h"
 #include "io/text_file.h"
 #include "optimize/personalize.h"
@@ -38,7 +39,7 @@ DesignSettings read_design_settings(io::JsonReader& reader, const ExperimentConf
   const int samples = static_cast<int>(reader.integer("samples", 140));
   if (samples < 2 || samples > 100000) reader.fail("samples", "must be 2..100000");
   s.problem.samples = optimize::resample(optimize::read_reference_torque(reference), samples);
-  s.problem.pressure = units::kpa_to_pa(reader.positive("pressure_kpa", 137.0));
+  s.problem.pressure = units::kpa_to_pa(reader.positive("pressure_kpa", physics::kRegulatorMaxPressureKpa));
   s.problem.fpam = reader.has("fpam") ? optimize::read_design_fpam(reader.child("fpam")) : physics::paper::design_fpam();
   s.problem.wrist_radius = cm_to_m(reader.positive("wrist_radius_cm", 2.0));
   s.problem.max_stretch_angle = units::deg_to_rad(reader.number("max_stretch_angle_deg"));

@@ -35,7 +35,7 @@ std::unique_ptr<RangeOfMotion> RangeOfMotion::Create(const ExperimentConfig& con
   } else {
     e->muscles_ = {sim::kFlexor, sim::kExtensor, sim::kUlnar, sim::kRadial};
   }
-  e->pressure_ = e->device_->regulator_pressure(reader, "pressure_kpa", reader.number("pressure_kpa", 137.0));
+  e->pressure_ = e->device_->regulator_pressure(reader, "pressure_kpa", reader.number("pressure_kpa", physics::kRegulatorMaxPressureKpa));
   const Repetitions repetitions = read_repetitions(reader);
   e->repetitions_ = repetitions.count;
   e->seed_ = repetitions.seed;
@@ -67,10 +67,10 @@ std::vector<Row> RangeOfMotion::run_case(int index) const {
   command[muscle] = units::pa_to_kpa(pressure_);
   wrist.command_pressures_kpa(command);
   wrist.run(settle_time_);
-  const sim::WristJoint joint = sim::joint_of(muscle);
-  const sim::WristJoint other = joint == sim::WristJoint::kFlexionExtension ? sim::WristJoint::kUlnarRadial
-                                                                            : sim::WristJoint::kFlexionExtension;
-  const double limit = sim::direction_of(muscle) * wrist.angle(joint) + angle_std_ * normal(rng);
+  const physics::WristAxis joint = physics::axis_of(muscle);
+  const physics::WristAxis other = joint == physics::WristAxis::kFlexionExtension ? physics::WristAxis::kUlnarRadial
+                                                                            : physics::WristAxis::kFlexionExtension;
+  const double limit = physics::direction_of(muscle) * wrist.angle(joint) + angle_std_ * normal(rng);
   const double other_angle = wrist.angle(other) + angle_std_ * normal(rng);
   return {{std::to_string(repetition), sim::kMuscleNames[muscle], format_number(units::pa_to_kpa(pressure_)),
            format_number(rad_to_deg(limit)), format_number(rad_to_deg(other_angle)),

@@ -7,6 +7,7 @@
 
 #include <memory>
 
+#include "physics/exosuit_layout.h"
 #include "experiments/experiment.h"
 #include "experiments/simulated_device.h"
 
@@ -26,7 +27,7 @@ class RangeOfMotion final : public Experiment {
  private:
   std::unique_ptr<SimulatedDevice> device_;
   std::vector<sim::MuscleIndex> muscles_;
-  double pressure_ = 137e3;  // [Pa]
+  double pressure_ = physics::kRegulatorMaxPressure;  // [Pa]
   int repetitions_ = 3;
   std::uint64_t seed_ = 1;
   double settle_time_ = 6.0;        // [s]

@@ -236,9 +236,14 @@ double mean_of(const std::vector<double>& v) {
   return v.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(v.size());
 }
 
-}  // namespace
+// The log split into runs, the controllers in the order the log first names them.
+struct TrackingRuns {
+  std::vector<std::string> order;
+  std::map<std::string, std::map<std::string, RunSeries>> runs;  // controller -> repetition -> series
+  bool has_truth = false;
+};
 
-nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesystem::path&) const {
+TrackingRuns read_runs(const io::CsvTable& log) {
   const int c_controller = log.column("controller"), c_repetition = log.column("repetition"), c_t = log.column("t_s");
   const int c_dfe = log.column("desired_fe_deg"), c_dur = log.column("desired_ur_deg");
   const int c_mfe = log.column("measured_fe_deg"), c_mur = log.column("measured_ur_deg");
@@ -247,134 +252,184 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
                                     log.column("cmd_ulnar_kpa"), log.column("cmd_radial_kpa")};
   // The true angles exist in simulated logs only; hardware logs have the IMUs alone.
   const int c_tfe = log.find_column("true_fe_deg"), c_tur = log.find_column("true_ur_deg");
-  const bool has_truth = c_tfe >= 0 && c_tur >= 0;
-  std::vector<std::string> order;
-  std::map<std::string, std::map<std::string, RunSeries>> runs;  // controller -> repetition -> series
+  TrackingRuns out;
+  out.has_truth = c_tfe >= 0 && c_tur >= 0;
   for (std::size_t row = 0; row < log.row_count(); ++row) {
     const std::string& name = log.cell(row, c_controller);
-    if (!runs.contains(name)) order.push_back(name);
-    RunSeries& r = runs[name][log.cell(row, c_repetition)];
+    if (!out.runs.contains(name)) out.order.push_back(name);
+    RunSeries& r = out.runs[name][log.cell(row, c_repetition)];
     r.t.push_back(log.number(row, c_t));
     r.desired_fe.push_back(log.number(row, c_dfe));
     r.desired_ur.push_back(log.number(row, c_dur));
     r.measured_fe.push_back(log.number(row, c_mfe));
     r.measured_ur.push_back(log.number(row, c_mur));
-    if (has_truth) {
+    if (out.has_truth) {
       r.true_fe.push_back(log.number(row, c_tfe));
       r.true_ur.push_back(log.number(row, c_tur));
     }
     r.unreachable_fe.push_back(log.number(row, c_unreach));
     for (int c : c_cmd) r.max_command_kpa = std::max(r.max_command_kpa, log.number(row, c));
   }
+  return out;
+}
 
-  // Step metrics apply to a step sequence only.
-  const auto* step_trajectory = dynamic_cast<const control::StepTrajectory*>(trajectory_.get());
-  const physics::ReachableRange reach = physics::reachable_range(
-      sim::wrist_model(device_->description, gravity_), device_->description.regulator.max_pressure);
-  const auto within_reach = [&](double fe_deg, double ur_deg, int axis) {
-    return reach.contains(axis_of(axis), units::deg_to_rad(axis == 0 ? fe_deg : ur_deg));
-  };
-  // RMSE of one axis over all repetitions after the settling time; `reachable_only` keeps the samples whose
-  // target the exosuit can hold.
-  const auto rmse = [&](const std::map<std::string, RunSeries>& reps, int axis, bool truth, bool reachable_only) {
-    std::vector<double> desired, actual;
-    for (const auto& [rep, r] : reps) {
-      const auto& d = axis == 0 ? r.desired_fe : r.desired_ur;
-      const auto& a = truth ? (axis == 0 ? r.true_fe : r.true_ur) : (axis == 0 ? r.measured_fe : r.measured_ur);
-      for (std::size_t i = 0; i < r.t.size(); ++i) {
-        if (r.t[i] < settle_s_) continue;
-        if (reachable_only && !within_reach(r.desired_fe[i], r.desired_ur[i], axis)) continue;
-        desired.push_back(d[i]);
-        actual.push_back(a[i]);
-      }
-    }
-    return control::rms_error(desired, actual);
-  };
+// What the summary of one controller needs besides its runs.
+struct SummaryContext {
+  const control::TrackingOptions& options;
+  const physics::ReachableRange& reach;
+  const control::StepTrajectory* step_trajectory;  // null unless the trajectory is a step sequence
+  double settle_s;
+  bool has_truth;
+};
 
-  nlohmann::json controllers = nlohmann::json::array();
-  for (const std::string& name : order) {
-    const auto& reps = runs[name];
-    nlohmann::json c = {{"controller", name}, {"repetitions", reps.size()}};
-    const char* axis_names[2] = {"fe", "ur"};
-    for (int axis = 0; axis < 2; ++axis) {
-      const bool active = options_.active_axes[static_cast<std::size_t>(axis)];
-      const std::string a = axis_names[axis];
-      c["rmse_" + a + "_deg"] = active ? number_or_null(rmse(reps, axis, false, false)) : nlohmann::json(nullptr);
-      c["reachable_rmse_" + a + "_deg"] = active ? number_or_null(rmse(reps, axis, false, true)) : nlohmann::json(nullptr);
-      if (has_truth) {
-        c["true_rmse_" + a + "_deg"] = active ? number_or_null(rmse(reps, axis, true, false)) : nlohmann::json(nullptr);
-      }
-    }
-    double max_command = 0.0;
-    for (const auto& [rep, r] : reps) max_command = std::max(max_command, r.max_command_kpa);
-    c["max_command_kpa"] = max_command;
+bool within_reach(const physics::ReachableRange& reach, double fe_deg, double ur_deg, int axis) {
+  return reach.contains(axis_of(axis), units::deg_to_rad(axis == 0 ? fe_deg : ur_deg));
+}
 
-    if (step_trajectory != nullptr) {
-      const auto& levels = step_trajectory->levels();
-      const double hold = step_trajectory->hold_s();
-      nlohmann::json steps = nlohmann::json::array();
-      std::map<std::string, std::vector<double>> rise, overshoot;  // by direction, reached steps only
-      for (std::size_t k = 1; k < levels.size(); ++k) {
-        const double from = levels[k - 1].fe_deg, to = levels[k].fe_deg;
-        if (from == to) continue;
-        const std::string direction = to < from ? "towards_extension" : "towards_flexion";
-        std::vector<double> rises, overshoots, finals;
-        bool flagged = false, all_reached = true;
-        for (const auto& [rep, r] : reps) {
-          std::vector<double> t, y;
-          for (std::size_t i = 0; i < r.t.size(); ++i) {
-            const double local = r.t[i] - hold * static_cast<double>(k);
-            if (local < 0.0 || local >= hold) continue;
-            t.push_back(local);
-            y.push_back(r.measured_fe[i]);
-            if (local >= 0.5 * hold && r.unreachable_fe[i] > 0.5) flagged = true;
-          }
-          if (t.empty()) continue;
-          const control::StepResponse response = control::step_response(t, y, from, to);
-          rises.push_back(response.rise_time_s);
-          overshoots.push_back(response.overshoot_pct);
-          finals.push_back(response.final_error_deg);
-          all_reached = all_reached && std::abs(response.final_error_deg) <= options_.unreachable_tolerance_deg;
-        }
-        if (rises.empty()) continue;
-        const bool in_reach = within_reach(to, 0.0, 0);
-        steps.push_back({{"from_deg", from},
-                         {"to_deg", to},
-                         {"direction", direction},
-                         {"rise_time_s", number_or_null(mean_of(rises))},
-                         {"overshoot_pct", mean_of(overshoots)},
-                         {"final_error_deg", mean_of(finals)},
-                         {"reached", all_reached},
-                         {"within_model_reach", in_reach},
-                         {"reported_unreachable", flagged}});
-        if (all_reached && in_reach && std::isfinite(mean_of(rises))) {
-          rise[direction].push_back(mean_of(rises));
-          overshoot[direction].push_back(mean_of(overshoots));
-        }
-      }
-      c["steps"] = steps;
-      for (const std::string direction : {"towards_extension", "towards_flexion"}) {
-        c[direction] = {{"rise_time_s", number_or_null(mean_of(rise[direction]))},
-                        {"overshoot_pct", number_or_null(mean_of(overshoot[direction]))},
-                        {"steps", rise[direction].size()}};
-      }
+// RMSE of one axis over all repetitions after the settling time; `reachable_only` keeps the samples whose
+// target the exosuit can hold.
+double axis_rmse(const std::map<std::string, RunSeries>& reps, int axis, bool truth, bool reachable_only,
+                 const SummaryContext& context) {
+  std::vector<double> desired, actual;
+  for (const auto& [rep, r] : reps) {
+    const auto& d = axis == 0 ? r.desired_fe : r.desired_ur;
+    const auto& a = truth ? (axis == 0 ? r.true_fe : r.true_ur) : (axis == 0 ? r.measured_fe : r.measured_ur);
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+      if (r.t[i] < context.settle_s) continue;
+      if (reachable_only && !within_reach(context.reach, r.desired_fe[i], r.desired_ur[i], axis)) continue;
+      desired.push_back(d[i]);
+      actual.push_back(a[i]);
     }
-    controllers.push_back(c);
   }
+  return control::rms_error(desired, actual);
+}
 
-  // The error no controller can avoid: the distance from each target to the nearest angle the exosuit can hold.
+void add_rmse_figures(nlohmann::json& c, const std::map<std::string, RunSeries>& reps, const SummaryContext& context) {
+  const char* axis_names[2] = {"fe", "ur"};
+  for (int axis = 0; axis < 2; ++axis) {
+    const bool active = context.options.active_axes[static_cast<std::size_t>(axis)];
+    const std::string a = axis_names[axis];
+    c["rmse_" + a + "_deg"] =
+        active ? number_or_null(axis_rmse(reps, axis, false, false, context)) : nlohmann::json(nullptr);
+    c["reachable_rmse_" + a + "_deg"] =
+        active ? number_or_null(axis_rmse(reps, axis, false, true, context)) : nlohmann::json(nullptr);
+    if (context.has_truth) {
+      c["true_rmse_" + a + "_deg"] =
+          active ? number_or_null(axis_rmse(reps, axis, true, false, context)) : nlohmann::json(nullptr);
+    }
+  }
+}
+
+// The responses of all repetitions to step `k` (from `from` to `to` deg flexion/extension).
+struct StepResponses {
+  std::vector<double> rises, overshoots, finals;
+  bool flagged = false, all_reached = true;
+};
+
+StepResponses step_responses(const std::map<std::string, RunSeries>& reps, std::size_t k, double hold, double from,
+                             double to, double tolerance_deg) {
+  StepResponses out;
+  for (const auto& [rep, r] : reps) {
+    std::vector<double> t, y;
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+      const double local = r.t[i] - hold * static_cast<double>(k);
+      if (local < 0.0 || local >= hold) continue;
+      t.push_back(local);
+      y.push_back(r.measured_fe[i]);
+      if (local >= 0.5 * hold && r.unreachable_fe[i] > 0.5) out.flagged = true;
+    }
+    if (t.empty()) continue;
+    const control::StepResponse response = control::step_response(t, y, from, to);
+    out.rises.push_back(response.rise_time_s);
+    out.overshoots.push_back(response.overshoot_pct);
+    out.finals.push_back(response.final_error_deg);
+    out.all_reached = out.all_reached && std::abs(response.final_error_deg) <= tolerance_deg;
+  }
+  return out;
+}
+
+// Step metrics of every step, and per direction the mean over the steps reached within the model's reach.
+void add_step_figures(nlohmann::json& c, const std::map<std::string, RunSeries>& reps,
+                      const control::StepTrajectory& step_trajectory, const SummaryContext& context) {
+  const auto& levels = step_trajectory.levels();
+  const double hold = step_trajectory.hold_s();
+  nlohmann::json steps = nlohmann::json::array();
+  std::map<std::string, std::vector<double>> rise, overshoot;  // by direction, reached steps only
+  for (std::size_t k = 1; k < levels.size(); ++k) {
+    const double from = levels[k - 1].fe_deg, to = levels[k].fe_deg;
+    if (from == to) continue;
+    const std::string direction = to < from ? "towards_extension" : "towards_flexion";
+    const StepResponses responses =
+        step_responses(reps, k, hold, from, to, context.options.unreachable_tolerance_deg);
+    if (responses.rises.empty()) continue;
+    const bool in_reach = within_reach(context.reach, to, 0.0, 0);
+    steps.push_back({{"from_deg", from},
+                     {"to_deg", to},
+                     {"direction", direction},
+                     {"rise_time_s", number_or_null(mean_of(responses.rises))},
+                     {"overshoot_pct", mean_of(responses.overshoots)},
+                     {"final_error_deg", mean_of(responses.finals)},
+                     {"reached", responses.all_reached},
+                     {"within_model_reach", in_reach},
+                     {"reported_unreachable", responses.flagged}});
+    if (responses.all_reached && in_reach && std::isfinite(mean_of(responses.rises))) {
+      rise[direction].push_back(mean_of(responses.rises));
+      overshoot[direction].push_back(mean_of(responses.overshoots));
+    }
+  }
+  c["steps"] = steps;
+  for (const std::string direction : {"towards_extension", "towards_flexion"}) {
+    c[direction] = {{"rise_time_s", number_or_null(mean_of(rise[direction]))},
+                    {"overshoot_pct", number_or_null(mean_of(overshoot[direction]))},
+                    {"steps", rise[direction].size()}};
+  }
+}
+
+nlohmann::json controller_summary(const std::string& name, const std::map<std::string, RunSeries>& reps,
+                                  const SummaryContext& context) {
+  nlohmann::json c = {{"controller", name}, {"repetitions", reps.size()}};
+  add_rmse_figures(c, reps, context);
+  double max_command = 0.0;
+  for (const auto& [rep, r] : reps) max_command = std::max(max_command, r.max_command_kpa);
+  c["max_command_kpa"] = max_command;
+
+  if (context.step_trajectory != nullptr) add_step_figures(c, reps, *context.step_trajectory, context);
+  return c;
+}
+
+// The error no controller can avoid: the distance from each target to the nearest angle the exosuit can hold.
+nlohmann::json reach_limited_rmse_floor(const control::Trajectory& trajectory, double settle_s,
+                                        const physics::ReachableRange& reach) {
   nlohmann::json floor;
   for (int axis = 0; axis < 2; ++axis) {
     std::vector<double> desired, held;
     const double step = 0.01;
-    for (double t = settle_s_; t < trajectory_->duration_s(); t += step) {
-      const control::WristAngles d = trajectory_->at(t);
+    for (double t = settle_s; t < trajectory.duration_s(); t += step) {
+      const control::WristAngles d = trajectory.at(t);
       const double v = axis == 0 ? d.fe_deg : d.ur_deg;
       desired.push_back(v);
       held.push_back(units::rad_to_deg(reach.clamp(axis_of(axis), units::deg_to_rad(v))));
     }
     floor[axis == 0 ? "fe" : "ur"] = number_or_null(control::rms_error(desired, held));
   }
+  return floor;
+}
+
+}  // namespace
+
+nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesystem::path&) const {
+  TrackingRuns runs = read_runs(log);
+
+  // Step metrics apply to a step sequence only.
+  const auto* step_trajectory = dynamic_cast<const control::StepTrajectory*>(trajectory_.get());
+  const physics::ReachableRange reach = physics::reachable_range(
+      sim::wrist_model(device_->description, gravity_), device_->description.regulator.max_pressure);
+  const SummaryContext context{options_, reach, step_trajectory, settle_s_, runs.has_truth};
+
+  nlohmann::json controllers = nlohmann::json::array();
+  for (const std::string& name : runs.order) controllers.push_back(controller_summary(name, runs.runs[name], context));
+
+  const nlohmann::json floor = reach_limited_rmse_floor(*trajectory_, settle_s_, reach);
 
   return {{"trajectory", step_trajectory != nullptr ? "steps" : "sinusoid"},
           {"settle_s", settle_s_},

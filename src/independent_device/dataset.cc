@@ -132,54 +132,83 @@ ordered_json manifest_entry(const DataFile& f, const Conventions& c) {
   return e;
 }
 
-}  // namespace
-
-double nominal_torque_rig_torque_nm(double angle_deg, double pressure_kpa) {
-  static const DeviceSpec device = nominal_device();
-  return torque_rig_flexor(device, MuscleState{}, to_rad(angle_deg), pressure_kpa).torque_nm;
-}
-
-DatasetTruth write_dataset(const DatasetOptions& options, const std::filesystem::path& out_dir) {
+void check_dataset_options(const DatasetOptions& options) {
   validate_effects(options.effects);
   if (!(options.trajectory_s > 0.0 && options.trajectory_s <= 3600.0))
     throw std::invalid_argument(fmt::format("trajectory_s {} is outside (0, 3600]", options.trajectory_s));
   if (options.sweep_repetitions < 1 || options.rom_repetitions < 1)
     throw std::invalid_argument("sweep_repetitions and rom_repetitions must be at least 1");
+}
 
-  const Conventions conventions = draw_conventions(options.seed);
-  DeviceSpec nominal = nominal_device();
-  Rng variation_rng(options.seed, "device-variation");
-  const nlohmann::json variation = apply_variation(nominal, variation_rng);
-  DeviceSpec effected = nominal;
-  DatasetTruth truth;
-  ordered_json effects_json = ordered_json::array();
-  bool any = false;
-  for (const auto& e : options.effects) {
+ordered_json effect_json(const EffectSpec& e, const EffectDefinition& def, const nlohmann::json& parameters) {
+  ordered_json ej;
+  ej["form"] = e.form;
+  ej["label"] = def.info.label;
+  ej["level"] = e.level;
+  ej["description"] = def.info.description;
+  ej["parameters"] = parameters;
+  return ej;
+}
+
+struct AppliedEffects {
+  ordered_json json = ordered_json::array();
+  bool any = false;  // an effect other than "none"
+};
+
+// Applies the effects to `device` in order, recording them and their labels (or "none") in `truth`.
+AppliedEffects apply_effects(const std::vector<EffectSpec>& effects, DeviceSpec& device, DatasetTruth& truth) {
+  AppliedEffects applied;
+  for (const auto& e : effects) {
     const EffectDefinition* def = find_effect(e.form);
     nlohmann::json parameters = nlohmann::json::object();
-    def->apply(effected, e.level, parameters);
+    def->apply(device, e.level, parameters);
     truth.effects.push_back(e);
     if (def->info.label != "none") {
-      any = true;
+      applied.any = true;
       if (std::find(truth.labels.begin(), truth.labels.end(), def->info.label) == truth.labels.end())
         truth.labels.push_back(def->info.label);
     }
-    ordered_json ej;
-    ej["form"] = e.form;
-    ej["label"] = def->info.label;
-    ej["level"] = e.level;
-    ej["description"] = def->info.description;
-    ej["parameters"] = parameters;
-    effects_json.push_back(ej);
+    applied.json.push_back(effect_json(e, *def, parameters));
   }
   if (truth.labels.empty()) truth.labels.push_back("none");
+  return applied;
+}
 
-  // The same noise realisation with and without the effects, and a noise-free run for the noise's size.
-  const std::vector<DataFile> without = run_session(nominal, options, conventions, true);
-  const std::vector<DataFile> with = any ? run_session(effected, options, conventions, true) : without;
-  const std::vector<DataFile> clean = run_session(nominal, options, conventions, false);
+// The file's group of measured columns where the effect stands out most from the noise.
+struct FileEffect {
+  FileMagnitude magnitude;
+  double effect_over_noise = -1.0;
+};
 
-  std::filesystem::create_directories(out_dir);
+FileEffect largest_effect(const DataFile& with, const DataFile& without, const DataFile& clean) {
+  FileEffect best{{with.csv, 0.0, 0.0, with.group_names.front()}};
+  for (std::size_t g = 0; g < with.groups.size(); ++g) {
+    const double effect = rms_difference(with.table, without.table, with.groups[g]);
+    const double noise = rms_difference(without.table, clean.table, with.groups[g]);
+    const double ratio = noise > 0.0 ? effect / noise : 0.0;
+    if (ratio > best.effect_over_noise) {
+      best.effect_over_noise = ratio;
+      best.magnitude = {with.csv, effect, noise, with.group_names[g]};
+    }
+  }
+  return best;
+}
+
+ordered_json file_effect_json(const FileEffect& f) {
+  ordered_json fj;
+  fj["csv"] = f.magnitude.csv;
+  fj["quantity"] = f.magnitude.quantity;
+  fj["effect_rms"] = f.magnitude.effect_rms;
+  fj["noise_sd"] = f.magnitude.noise_sd;
+  fj["effect_over_noise"] = f.effect_over_noise;
+  return fj;
+}
+
+// Writes the CSVs (with the effects) and manifest.json; records each file's effect size in `truth` and returns
+// them for truth.json.
+ordered_json write_data_files(const std::filesystem::path& out_dir, const std::vector<DataFile>& with,
+                              const std::vector<DataFile>& without, const std::vector<DataFile>& clean,
+                              const Conventions& conventions, DatasetTruth& truth) {
   ordered_json manifest;
   manifest["format"] = "softwrist.independent/1";
   manifest["files"] = ordered_json::array();
@@ -188,33 +217,45 @@ DatasetTruth write_dataset(const DatasetOptions& options, const std::filesystem:
     const DataFile& f = with[i];
     write_text(out_dir / f.csv, f.table.csv());
     manifest["files"].push_back(manifest_entry(f, conventions));
-    FileMagnitude best{f.csv, 0.0, 0.0, f.group_names.front()};
-    double best_ratio = -1.0;
-    for (std::size_t g = 0; g < f.groups.size(); ++g) {
-      const double effect = rms_difference(f.table, without[i].table, f.groups[g]);
-      const double noise = rms_difference(without[i].table, clean[i].table, f.groups[g]);
-      const double ratio = noise > 0.0 ? effect / noise : 0.0;
-      if (ratio > best_ratio) {
-        best_ratio = ratio;
-        best = {f.csv, effect, noise, f.group_names[g]};
-      }
-    }
-    truth.files.push_back(best);
-    truth.magnitude_noise_units = std::max(truth.magnitude_noise_units, best_ratio);
-    ordered_json fj;
-    fj["csv"] = best.csv;
-    fj["quantity"] = best.quantity;
-    fj["effect_rms"] = best.effect_rms;
-    fj["noise_sd"] = best.noise_sd;
-    fj["effect_over_noise"] = best_ratio;
-    files_json.push_back(fj);
+    const FileEffect best = largest_effect(f, without[i], clean[i]);
+    truth.files.push_back(best.magnitude);
+    truth.magnitude_noise_units = std::max(truth.magnitude_noise_units, best.effect_over_noise);
+    files_json.push_back(file_effect_json(best));
   }
   write_text(out_dir / "manifest.json", manifest.dump(2) + "\n");
+  return files_json;
+}
+
+}  // namespace
+
+double nominal_torque_rig_torque_nm(double angle_deg, double pressure_kpa) {
+  static const DeviceSpec device = nominal_device();
+  return torque_rig_flexor(device, MuscleState{}, to_rad(angle_deg), pressure_kpa).torque_nm;
+}
+
+DatasetTruth write_dataset(const DatasetOptions& options, const std::filesystem::path& out_dir) {
+  check_dataset_options(options);
+
+  const Conventions conventions = draw_conventions(options.seed);
+  DeviceSpec nominal = nominal_device();
+  Rng variation_rng(options.seed, "device-variation");
+  const nlohmann::json variation = apply_variation(nominal, variation_rng);
+  DeviceSpec effected = nominal;
+  DatasetTruth truth;
+  const AppliedEffects effects = apply_effects(options.effects, effected, truth);
+
+  // The same noise realisation with and without the effects, and a noise-free run for the noise's size.
+  const std::vector<DataFile> without = run_session(nominal, options, conventions, true);
+  const std::vector<DataFile> with = effects.any ? run_session(effected, options, conventions, true) : without;
+  const std::vector<DataFile> clean = run_session(nominal, options, conventions, false);
+
+  std::filesystem::create_directories(out_dir);
+  const ordered_json files_json = write_data_files(out_dir, with, without, clean, conventions, truth);
 
   ordered_json tj;
   tj["format"] = "softwrist.independent.truth/1";
   tj["seed"] = options.seed;
-  tj["effects"] = effects_json;
+  tj["effects"] = effects.json;
   tj["labels"] = truth.labels;
   tj["magnitude_noise_units"] = truth.magnitude_noise_units;
   tj["files"] = files_json;

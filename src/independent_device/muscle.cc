@@ -12,6 +12,72 @@ double effective_rest_length_m(const MuscleSpec& spec, const MuscleState& state)
          (1.0 + spec.creep_coefficient * std::log1p(state.pressure_time_s / spec.creep_reference_s));
 }
 
+namespace {
+
+// A bracket [lo, hi] of the root of g(f) = F_muscle(f) - f: g(lo) > 0, g_hi = g(hi).
+struct Bracket {
+  double lo, g_lo, hi, g_hi;
+};
+
+// [0, f_high], where g(0) = f_high > 0 >= g(f_high); narrowed around `force_hint_n` when it lies inside.
+template <typename G>
+Bracket initial_bracket(G&& g, double f_high, double force_hint_n) {
+  Bracket b{0.0, f_high, f_high, 0.0};
+  if (force_hint_n > 0.0 && force_hint_n < f_high) {  // a narrow bracket around last step's tension
+    const double delta = 1e-3 * force_hint_n + 1e-3;
+    const double a = std::max(0.0, force_hint_n - delta), c = std::min(f_high, force_hint_n + delta);
+    const double g_a = g(a);
+    if (g_a <= 0.0) {
+      b.hi = a;
+      b.g_hi = g_a;
+    } else {
+      b.lo = a;
+      b.g_lo = g_a;
+      const double g_c = g(c);
+      b.hi = c;
+      b.g_hi = g_c;
+      if (g_c > 0.0) {
+        b.lo = c;
+        b.g_lo = g_c;
+        b.hi = f_high;
+        b.g_hi = g(f_high);
+      }
+    }
+    return b;
+  }
+  b.g_hi = g(f_high);
+  return b;
+}
+
+// Illinois (modified regula falsi) on g within the bracket; its upper end when g vanishes there.
+template <typename G>
+double illinois_root(G&& g, Bracket b) {
+  double lo = b.lo, g_lo = b.g_lo, hi = b.hi, g_hi = b.g_hi;
+  double root = hi;
+  if (g_hi < 0.0) {
+    int side = 0;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+      root = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+      const double g_root = g(root);
+      if (std::abs(g_root) <= 1e-9 * (1.0 + root) || hi - lo <= 1e-12 * (1.0 + root)) break;
+      if (g_root > 0.0) {
+        lo = root;
+        g_lo = g_root;
+        if (side == 1) g_hi *= 0.5;
+        side = 1;
+      } else {
+        hi = root;
+        g_hi = g_root;
+        if (side == -1) g_lo *= 0.5;
+        side = -1;
+      }
+    }
+  }
+  return root;
+}
+
+}  // namespace
+
 MuscleForce solve_muscle(const MuscleSpec& spec, const MuscleState& state, double theta_own_rad, double pressure_kpa,
                          double force_hint_n) {
   const double l0 = effective_rest_length_m(spec, state);
@@ -34,59 +100,13 @@ MuscleForce solve_muscle(const MuscleSpec& spec, const MuscleState& state, doubl
     const double static_force = fpam_force_n(spec.law, at, contraction);
     return static_force > 0.0 ? std::max(0.0, static_force + friction) : 0.0;
   };
+  const auto g = [&](double f) { return evaluate(f) - f; };
 
-  MuscleForce out;
   double root = 0.0;
   const double f_high = evaluate(0.0);
-  if (f_high > 0.0) {
-    // Illinois (modified regula falsi) on g(f) = F_muscle(f) - f, g(0) > 0 >= g(f_high).
-    double lo = 0.0, g_lo = f_high, hi = f_high, g_hi = 0.0;
-    bool bracketed = false;
-    if (force_hint_n > 0.0 && force_hint_n < f_high) {  // a narrow bracket around last step's tension
-      const double delta = 1e-3 * force_hint_n + 1e-3;
-      const double a = std::max(0.0, force_hint_n - delta), b = std::min(f_high, force_hint_n + delta);
-      const double g_a = evaluate(a) - a;
-      if (g_a <= 0.0) {
-        hi = a;
-        g_hi = g_a;
-      } else {
-        lo = a;
-        g_lo = g_a;
-        const double g_b = evaluate(b) - b;
-        hi = b;
-        g_hi = g_b;
-        if (g_b > 0.0) {
-          lo = b;
-          g_lo = g_b;
-          hi = f_high;
-          g_hi = evaluate(f_high) - f_high;
-        }
-      }
-      bracketed = true;
-    }
-    if (!bracketed) g_hi = evaluate(f_high) - f_high;
-    root = hi;
-    if (g_hi < 0.0) {
-      int side = 0;
-      for (int iteration = 0; iteration < 200; ++iteration) {
-        root = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
-        const double g = evaluate(root) - root;
-        if (std::abs(g) <= 1e-9 * (1.0 + root) || hi - lo <= 1e-12 * (1.0 + root)) break;
-        if (g > 0.0) {
-          lo = root;
-          g_lo = g;
-          if (side == 1) g_hi *= 0.5;
-          side = 1;
-        } else {
-          hi = root;
-          g_hi = g;
-          if (side == -1) g_lo *= 0.5;
-          side = -1;
-        }
-      }
-    }
-  }
+  if (f_high > 0.0) root = illinois_root(g, initial_bracket(g, f_high, force_hint_n));
   evaluate(root);  // path and contraction at the root
+  MuscleForce out;
   out.force_n = root;
   out.torque_nm = root * path.moment_arm_m;
   out.contraction = contraction;

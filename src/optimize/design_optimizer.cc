@@ -6,9 +6,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include <nlopt.hpp>
-
 #include "common/parallel_for.h"
+#include "optimize/bounded_search.h"
 #include "physics/errors.h"
 
 namespace softwrist::optimize {
@@ -31,9 +30,9 @@ std::vector<double> axis_values(double lower, double upper, double step) {
   return values;
 }
 
-nlopt::algorithm algorithm_named(const std::string& name) {
-  if (name == "neldermead") return nlopt::LN_NELDERMEAD;
-  if (name == "subplex") return nlopt::LN_SBPLX;
+LocalAlgorithm algorithm_named(const std::string& name) {
+  if (name == "neldermead") return LocalAlgorithm::kNelderMead;
+  if (name == "subplex") return LocalAlgorithm::kSubplex;
   throw physics::InvalidParameter("unknown optimizer algorithm '" + name + "' (neldermead, subplex)");
 }
 
@@ -66,38 +65,25 @@ std::vector<Placement> start_grid(const PlacementBounds& bounds, const Placement
 LocalSolution optimize_from(const DesignProblem& problem, const Placement& start, const OptimizerOptions& options,
                             double pressure) {
   const DesignEvaluator evaluator(problem, pressure);
-  nlopt::opt opt(algorithm_named(options.algorithm), 4);
   const auto lower = to_array(problem.bounds.lower), upper = to_array(problem.bounds.upper);
-  opt.set_lower_bounds(std::vector<double>(lower.begin(), lower.end()));
-  opt.set_upper_bounds(std::vector<double>(upper.begin(), upper.end()));
-  struct Context {
-    const DesignEvaluator* evaluator;
-    int evaluations = 0;
-  } context{&evaluator};
-  opt.set_min_objective(
-      [](unsigned, const double* x, double*, void* data) {
-        auto* c = static_cast<Context*>(data);
-        ++c->evaluations;
-        return c->evaluator->objective(to_placement(x));
-      },
-      &context);
-  opt.set_xtol_abs(options.x_tolerance);
-  opt.set_maxeval(options.max_evaluations);
   // First simplex: half the start resolution, so the first steps explore the cell around the start.
   const auto resolution = to_array(options.start_resolution);
   std::vector<double> step(4);
   for (int i = 0; i < 4; ++i) step[i] = std::max(0.5 * resolution[i], 10 * options.x_tolerance);
-  opt.set_initial_step(step);
   const auto s = to_array(start);
-  std::vector<double> x(s.begin(), s.end());
-  for (int i = 0; i < 4; ++i) x[i] = std::clamp(x[i], lower[i], upper[i]);
-  double value = 0.0;
-  try {
-    opt.optimize(x, value);
-  } catch (const nlopt::roundoff_limited&) {
-    // NLopt reports where it stopped in x and value; the point is as good as it could get.
-  }
-  return {.start = start, .placement = to_placement(x.data()), .objective = value, .evaluations = context.evaluations};
+  const BoundedSearchResult found = minimize_bounded(
+      [&](std::span<const double> x) { return evaluator.objective(to_placement(x.data())); },
+      std::vector<double>(s.begin(), s.end()),
+      {.algorithm = algorithm_named(options.algorithm),
+       .lower = std::vector<double>(lower.begin(), lower.end()),
+       .upper = std::vector<double>(upper.begin(), upper.end()),
+       .initial_step = step,
+       .x_tolerance_abs = options.x_tolerance,
+       .max_evaluations = options.max_evaluations});
+  return {.start = start,
+          .placement = to_placement(found.x.data()),
+          .objective = found.value,
+          .evaluations = found.evaluations};
 }
 
 std::vector<LocalSolution> optimize_starts(const DesignProblem& problem, const std::vector<Placement>& starts,

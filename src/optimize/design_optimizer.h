@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "physics/exosuit_layout.h"
 #include "optimize/design_problem.h"
 
 namespace softwrist::optimize {
@@ -60,7 +61,7 @@ DesignResult optimize_design(const DesignProblem& problem, const OptimizerOption
 LocalSolution exhaustive_search(const DesignProblem& problem, const physics::Placement& resolution, int jobs);
 
 struct PressureSearch {
-  double low = 137e3;        // [Pa], start of the bracket
+  double low = physics::kRegulatorMaxPressure;  // [Pa], start of the bracket
   double high = 600e3;       // [Pa], end of the bracket (the fPAM's burst pressure is about 448 kPa for r0 = 1.23 cm)
   double tolerance = 500.0;  // [Pa], bracket width to stop at
   int screened_starts = 16;  // local searches per trial pressure, from the best grid points

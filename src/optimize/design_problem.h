@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "physics/exosuit_layout.h"
 #include "optimize/reference_torque.h"
 #include "physics/fpam_parameters.h"
 #include "physics/muscle_torque.h"
@@ -31,7 +32,7 @@ enum class DesignObjective {
 struct DesignProblem {
   ReferenceTorque samples;     // the resampled reference (140 points in the paper)
   physics::FpamParameters fpam = physics::FpamParameters::Constant(0.0123, 0.28);
-  double pressure = 137e3;     // [Pa]
+  double pressure = physics::kRegulatorMaxPressure;  // [Pa]
   double wrist_radius = 0.02;  // r_w [m]
   double max_stretch_angle = 0.0;  // [rad], the angle (negative: towards extension for the flexor) that sets L0
   PlacementBounds bounds = kPaperBounds;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "physics/exosuit_layout.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 #include "physics/errors.h"
@@ -58,7 +59,7 @@ UserDescription load_user(const std::filesystem::path& path, int samples) {
   }
   UserDescription user;
   user.name = top.text("name", path.stem().string());
-  user.pressure_limit = units::kpa_to_pa(top.positive("pressure_limit_kpa", 137.0));
+  user.pressure_limit = units::kpa_to_pa(top.positive("pressure_limit_kpa", physics::kRegulatorMaxPressureKpa));
   if (top.has("fpam")) user.fpam = read_design_fpam(top.child("fpam"));
   io::JsonReader wrist = top.child("wrist");
   user.wrist_radius_fe = cm_to_m(wrist.positive("radius_fe_cm", 2.0));

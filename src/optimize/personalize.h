@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 
+#include "physics/exosuit_layout.h"
 #include "io/json_reader.h"
 #include "optimize/design_optimizer.h"
 
@@ -20,7 +21,7 @@ namespace softwrist::optimize {
 
 struct UserDescription {
   std::string name;
-  double pressure_limit = 137e3;  // [Pa]
+  double pressure_limit = physics::kRegulatorMaxPressure;  // [Pa]
   physics::FpamParameters fpam = physics::FpamParameters::Constant(0.0123, 0.28);
   double wrist_radius_fe = 0.02;  // [m] half the wrist's palmar-dorsal thickness
   double wrist_radius_ur = 0.02;  // [m] half the wrist's radial-ulnar width

@@ -9,11 +9,10 @@
 // negative. A muscle sees the joint angle in its own direction: the agonist (flexor, ulnar) sees +angle, the
 // antagonist (extensor, radial) sees -angle, and its torque counts negative.
 
+#include "physics/exosuit_layout.h"
 #include "physics/muscle_torque.h"
 
 namespace softwrist::physics {
-
-enum class WristAxis { kFlexionExtension, kUlnarRadial };
 
 struct AntagonisticPair {
   Muscle agonist;     // pulls towards positive angles: flexor or ulnar muscle

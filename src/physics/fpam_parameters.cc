@@ -56,6 +56,10 @@ FpamParameters FpamParameters::Table(std::vector<FpamTableRow> rows, FabricPrope
   return FpamParameters(std::move(rows), fabric);
 }
 
+FpamParameters FpamParameters::with_rows(std::vector<FpamTableRow> rows) const {
+  return FpamParameters(std::move(rows), fabric_);
+}
+
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {
   require_non_negative("pressure [Pa]", pressure);
   if (pressure <= rows_.front().pressure) return {rows_.front().radius, rows_.front().max_contraction};

@@ -37,6 +37,10 @@ class FpamParameters {
   // the regulators' whole 0-137 kPa range, so holding only matters for what-if pressures above it).
   static FpamParameters Table(std::vector<FpamTableRow> rows, FabricProperties fabric = {});
 
+  // The same fabric with other rows (edited copies of rows(); one row is a constant fPAM). The one way to change an
+  // fPAM's r0 or eps_max, validated as a new table is.
+  FpamParameters with_rows(std::vector<FpamTableRow> rows) const;
+
   FpamCoefficients at_pressure(double pressure) const;
   const FabricProperties& fabric() const { return fabric_; }
   const std::vector<FpamTableRow>& rows() const { return rows_; }

@@ -2,15 +2,12 @@
 
 #include "physics/errors.h"
 #include "physics/fpam_force.h"
-#include "physics/plausible_ranges.h"
 
 namespace softwrist::physics {
 
 void validate(const Muscle& muscle) {
   validate(muscle.placement, muscle.wrist_radius);
-  require_positive("rest_length L0 [m]", muscle.rest_length);
-  require(muscle.rest_length <= plausible::kMaxLength, "rest_length L0 [m]", muscle.rest_length, "must be at most 10");
-  if (muscle.stretch_mode != StretchMode::kNone) validate(muscle.mount_stiffness);
+  validate(static_cast<const MuscleLaw&>(muscle));
 }
 
 MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressure) {
@@ -20,11 +17,8 @@ MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressu
 }
 
 MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle) {
-  const double rest_length = muscle.rest_length;
-  const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
   const MusclePath path = muscle_path(muscle.placement, muscle.wrist_radius, joint_angle);
-  const StretchedForce stretched =
-      solve_mount_stretch(force_at_length, path.length, muscle.mount_stiffness, muscle.stretch_mode);
+  const StretchedForce stretched = stretched_force(muscle, force_law, path.length);
 
   MuscleState state;
   state.regime = path.regime;

@@ -1,23 +1,19 @@
 #pragma once
 // One fPAM on the wrist: its description (Muscle) and the torque it applies at a joint angle and pressure
-// (MuscleState), combining the force law (fpam_force.h), the path geometry (torque_geometry.h) and the mounting-
-// point stretching (mount_stretch.h).
+// (MuscleState), combining the muscle's length-to-force law (muscle_law.h: Eqn. force with the mounting-point
+// stretching) and the path geometry (torque_geometry.h).
 
 #include "physics/fpam_force.h"
-#include "physics/fpam_parameters.h"
-#include "physics/mount_stretch.h"
+#include "physics/muscle_law.h"
 #include "physics/torque_geometry.h"
 
 namespace softwrist::physics {
 
-// Immutable description of one muscle of the exosuit.
-struct Muscle {
+// Immutable description of one muscle of the exosuit: its length-to-force law (fPAM, L0, mounts) and where its
+// path runs. Built as Muscle{{.fpam = ..., .rest_length = ...}, placement, wrist_radius}.
+struct Muscle : MuscleLaw {
   Placement placement;
-  double rest_length = 0.0;   // L0 [m], fully stretched length of the deflated fPAM
   double wrist_radius = 0.0;  // r_w [m]
-  FpamParameters fpam;
-  StretchMode stretch_mode = StretchMode::kNone;
-  MountStiffness mount_stiffness;  // used unless stretch_mode is kNone
 };
 void validate(const Muscle& muscle);
 

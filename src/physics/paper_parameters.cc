@@ -20,15 +20,13 @@ FpamParameters tensile_fpam() {
 FpamParameters design_fpam() { return FpamParameters::Constant(cm_to_m(1.23), 0.28); }
 
 Muscle torque_measurement_flexor(StretchMode stretch_mode) {
-  return Muscle{
-      .placement = {.d1 = cm_to_m(19.47), .w1 = cm_to_m(4.93), .d2 = cm_to_m(8.30), .w2 = cm_to_m(3.38)},
-      .rest_length = cm_to_m(32.00),
-      .wrist_radius = cm_to_m(3.99),
-      .fpam = tensile_fpam(),
-      .stretch_mode = stretch_mode,
-      .mount_stiffness = {.forearm = units::n_per_cm2_to_n_per_m2(-43.36),
-                          .hand = units::n_per_cm2_to_n_per_m2(-1097.50)},
-  };
+  return Muscle{{.fpam = tensile_fpam(),
+                 .rest_length = cm_to_m(32.00),
+                 .stretch_mode = stretch_mode,
+                 .mount_stiffness = {.forearm = units::n_per_cm2_to_n_per_m2(-43.36),
+                                     .hand = units::n_per_cm2_to_n_per_m2(-1097.50)}},
+                {.d1 = cm_to_m(19.47), .w1 = cm_to_m(4.93), .d2 = cm_to_m(8.30), .w2 = cm_to_m(3.38)},
+                cm_to_m(3.99)};
 }
 
 const std::array<RomEntry, 4>& rom_table() {
@@ -45,17 +43,14 @@ const std::array<RomEntry, 4>& rom_table() {
 FpamParameters rom_fpam() { return FpamParameters::Constant(cm_to_m(1.26), 0.277); }
 
 Muscle rom_muscle(const RomEntry& entry) {
-  return Muscle{.placement = entry.placement,
-                .rest_length = entry.rest_length,
-                .wrist_radius = kRomWristRadius,
-                .fpam = rom_fpam()};
+  return Muscle{{.fpam = rom_fpam(), .rest_length = entry.rest_length}, entry.placement, kRomWristRadius};
 }
 
 Muscle design_optimum_flexor() {
-  return Muscle{.placement = kOptimizedPlacement,
-                .rest_length = rest_length_for_range(kOptimizedPlacement, kDesignWristRadius, kDesignMaxExtension),
-                .wrist_radius = kDesignWristRadius,
-                .fpam = design_fpam()};
+  return Muscle{{.fpam = design_fpam(),
+                 .rest_length = rest_length_for_range(kOptimizedPlacement, kDesignWristRadius, kDesignMaxExtension)},
+                kOptimizedPlacement,
+                kDesignWristRadius};
 }
 
 }  // namespace softwrist::physics::paper

@@ -11,8 +11,7 @@
 
 namespace softwrist::physics::paper {
 
-// Section Exosuit Prototype: the regulators (QB3, Proportion-Air) hold 0-137 kPa.
-inline constexpr double kRegulatorMaxPressure = 137e3;  // [Pa]
+// The regulators' 0-137 kPa range (Section Exosuit Prototype) is physics::kRegulatorMaxPressure (exosuit_layout.h).
 // The five pressure levels of the tensile and torque measurements.
 inline constexpr std::array<double, 5> kMeasurementPressures = {0.0, 34e3, 68e3, 103e3, 137e3};  // [Pa]
 

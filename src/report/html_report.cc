@@ -141,6 +141,106 @@ std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, con
   return rows;
 }
 
+namespace {
+
+std::string page_head(const std::string& title, const nlohmann::json& config) {
+  return fmt::format(R"(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{0}</title>
+<style>
+body {{ font-family: sans-serif; max-width: 1000px; margin: 2em auto; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }} td, th {{ border: 1px solid #ccc; padding: 4px 10px; text-align: left; }}
+th {{ background: #f0f0f0; }} figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
+figcaption {{ color: #555; font-size: 0.9em; }} .missing {{ color: #b00; font-weight: bold; }}
+.renders {{ display: grid; grid-template-columns: 1fr 1fr; gap: 0 1.5em; }} pre {{ background: #f7f7f7; padding: 1em; overflow-x: auto; }}
+</style></head><body>
+<h1>{0}</h1>
+<p>{1}</p>
+)",
+                     html_escape(title), html_escape(config.is_object() ? config.value("description", "") : ""));
+}
+
+std::string metrics_section(const std::string& kind, const nlohmann::json& summary) {
+  std::string html = "<h2>Metrics</h2>\n<table><tr><th>quantity</th><th>softwrist</th><th>paper</th></tr>\n";
+  for (const auto& row : metric_rows(kind, summary)) {
+    html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", row[0], row[1], row[2]);
+  }
+  html += "</table>\n";
+  if (summary.contains("explanation") && summary["explanation"].is_string()) {
+    html += fmt::format("<p>{}</p>\n", html_escape(summary["explanation"]));
+  }
+  return html;
+}
+
+// The figures plot_run.py listed in plots.json; each file must exist in `out`. Appends the files to `files`.
+std::string plots_section(const nlohmann::json& plots, const fs::path& out, std::vector<std::string>& files) {
+  std::string html;
+  if (!plots.empty()) html += "<h2>Plots</h2>\n";
+  for (const auto& plot : plots) {
+    const std::string file = plot.value("file", "");
+    if (!fs::is_regular_file(out / file)) throw std::runtime_error("report: plot " + file + " was not written");
+    files.push_back(file);
+    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
+                        html_escape(file), html_escape(plot.value("caption", "")));
+  }
+  return html;
+}
+
+// Renders the run's moments into `out`, appending the files to `files`; empty when the run has none.
+std::string renders_section(const fs::path& run_dir, const fs::path& out, std::vector<std::string>& files) {
+  const RunMoments run = run_moments(run_dir);
+  if (run.moments.empty()) return "";
+  std::string html =
+      "<h2>Renders</h2>\n<p>Offscreen (OSMesa) renders of the simulated device; each muscle is drawn along its "
+      "tendon path, coloured by its pressure from blue (0) to red (the regulator's maximum).</p>\n"
+      "<div class=\"renders\">\n";
+  PoseRenderer renderer(run.device, 480, 360);
+  for (const Moment& moment : run.moments) {
+    const std::string file = "render_" + moment.name + ".png";
+    write_png(renderer.Render(moment.pose, moment.view), out / file);
+    files.push_back(file);
+    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1} ({2} view)</figcaption></figure>\n",
+                        html_escape(file), html_escape(moment.caption),
+                        view_name(moment.view));
+  }
+  html += "</div>\n";
+  return html;
+}
+
+std::string what_was_run_section(const nlohmann::json& sidecar, const nlohmann::json& config,
+                                 const nlohmann::json& summary) {
+  std::string html = "<h2>What was run</h2>\n<table>\n";
+  for (const char* key : {"source", "config_hash", "model_hash", "software_version", "cases", "format"}) {
+    if (!sidecar.contains(key)) continue;
+    const auto& v = sidecar[key];
+    html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", key,
+                        html_escape(v.is_string() ? v.get<std::string>() : v.dump()));
+  }
+  html += fmt::format("</table>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
+  html += fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n",
+                      html_escape(summary.dump(2)));
+  return html;
+}
+
+// A plot or render that did not load says so on the page (a moved page without its PNGs, say); the count of
+// loaded images is on <body data-images> for the headless-browser test.
+constexpr const char* kPageEnd = R"(<script>
+window.addEventListener("load", () => {
+  const images = Array.from(document.images);
+  const missing = images.filter((img) => !img.complete || img.naturalWidth === 0);
+  for (const img of missing) {
+    const note = document.createElement("p");
+    note.className = "missing";
+    note.textContent = "image missing: " + img.getAttribute("src");
+    img.replaceWith(note);
+  }
+  document.body.dataset.images = (images.length - missing.length) + "/" + images.length;
+});
+</script>
+</body></html>
+)";
+
+}  // namespace
+
 ReportResult write_report(const fs::path& run_dir, const ReportOptions& options) {
   if (!fs::is_directory(run_dir)) throw std::runtime_error(run_dir.string() + ": not a directory");
   const nlohmann::json sidecar = read_json(run_dir / "trials.json");
@@ -161,79 +261,12 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
 
   const nlohmann::json& config = at(sidecar, {"config"});
   const std::string title = fmt::format("softwrist {}: {}", kind, run_dir.filename().string());
-  std::string html = fmt::format(R"(<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>{0}</title>
-<style>
-body {{ font-family: sans-serif; max-width: 1000px; margin: 2em auto; color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; }} td, th {{ border: 1px solid #ccc; padding: 4px 10px; text-align: left; }}
-th {{ background: #f0f0f0; }} figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
-figcaption {{ color: #555; font-size: 0.9em; }} .missing {{ color: #b00; font-weight: bold; }}
-.renders {{ display: grid; grid-template-columns: 1fr 1fr; gap: 0 1.5em; }} pre {{ background: #f7f7f7; padding: 1em; overflow-x: auto; }}
-</style></head><body>
-<h1>{0}</h1>
-<p>{1}</p>
-)",
-                                 html_escape(title),
-                                 html_escape(config.is_object() ? config.value("description", "") : ""));
-  html += "<h2>Metrics</h2>\n<table><tr><th>quantity</th><th>softwrist</th><th>paper</th></tr>\n";
-  for (const auto& row : metric_rows(kind, summary)) {
-    html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", row[0], row[1], row[2]);
-  }
-  html += "</table>\n";
-  if (summary.contains("explanation") && summary["explanation"].is_string()) {
-    html += fmt::format("<p>{}</p>\n", html_escape(summary["explanation"]));
-  }
-  if (!plots.empty()) html += "<h2>Plots</h2>\n";
-  for (const auto& plot : plots) {
-    const std::string file = plot.value("file", "");
-    if (!fs::is_regular_file(out / file)) throw std::runtime_error("report: plot " + file + " was not written");
-    result.plots.push_back(file);
-    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
-                        html_escape(file), html_escape(plot.value("caption", "")));
-  }
-  if (options.renders) {
-    const RunMoments run = run_moments(run_dir);
-    if (!run.moments.empty()) {
-      html += "<h2>Renders</h2>\n<p>Offscreen (OSMesa) renders of the simulated device; each muscle is drawn along its "
-              "tendon path, coloured by its pressure from blue (0) to red (the regulator's maximum).</p>\n"
-              "<div class=\"renders\">\n";
-      PoseRenderer renderer(run.device, 480, 360);
-      for (const Moment& moment : run.moments) {
-        const std::string file = "render_" + moment.name + ".png";
-        write_png(renderer.Render(moment.pose, moment.view), out / file);
-        result.renders.push_back(file);
-        html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1} ({2} view)</figcaption></figure>\n",
-                            html_escape(file), html_escape(moment.caption),
-                            view_name(moment.view));
-      }
-      html += "</div>\n";
-    }
-  }
-  html += "<h2>What was run</h2>\n<table>\n";
-  for (const char* key : {"source", "config_hash", "model_hash", "software_version", "cases", "format"}) {
-    if (!sidecar.contains(key)) continue;
-    const auto& v = sidecar[key];
-    html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", key, html_escape(v.is_string() ? v.get<std::string>() : v.dump()));
-  }
-  html += fmt::format("</table>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
-  html += fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n", html_escape(summary.dump(2)));
-  // A plot or render that did not load says so on the page (a moved page without its PNGs, say); the count of
-  // loaded images is on <body data-images> for the headless-browser test.
-  html += R"(<script>
-window.addEventListener("load", () => {
-  const images = Array.from(document.images);
-  const missing = images.filter((img) => !img.complete || img.naturalWidth === 0);
-  for (const img of missing) {
-    const note = document.createElement("p");
-    note.className = "missing";
-    note.textContent = "image missing: " + img.getAttribute("src");
-    img.replaceWith(note);
-  }
-  document.body.dataset.images = (images.length - missing.length) + "/" + images.length;
-});
-</script>
-</body></html>
-)";
+  std::string html = page_head(title, config);
+  html += metrics_section(kind, summary);
+  html += plots_section(plots, out, result.plots);
+  if (options.renders) html += renders_section(run_dir, out, result.renders);
+  html += what_was_run_section(sidecar, config, summary);
+  html += kPageEnd;
   std::ofstream(result.page) << html;
   if (!fs::is_regular_file(result.page)) throw std::runtime_error(result.page.string() + ": could not be written");
   return result;

@@ -37,7 +37,7 @@ std::string describe(const WristPose& pose) {
 }
 
 View view_of(sim::MuscleIndex muscle) {
-  return sim::joint_of(muscle) == sim::WristJoint::kFlexionExtension ? View::kRadial : View::kPalmar;
+  return physics::axis_of(muscle) == physics::WristAxis::kFlexionExtension ? View::kRadial : View::kPalmar;
 }
 
 sim::MuscleIndex muscle_named(const io::CsvTable& table, std::size_t row, int column) {
@@ -52,7 +52,7 @@ sim::MuscleIndex muscle_named(const io::CsvTable& table, std::size_t row, int co
 // A muscle alone at its pressure, the wrist at `joint_angle` on that muscle's joint and `other_angle` on the other.
 WristPose single_muscle_pose(sim::MuscleIndex muscle, double joint_angle, double other_angle, double pressure_kpa) {
   WristPose pose;
-  const bool fe = sim::joint_of(muscle) == sim::WristJoint::kFlexionExtension;
+  const bool fe = physics::axis_of(muscle) == physics::WristAxis::kFlexionExtension;
   pose.fe = fe ? joint_angle : other_angle;
   pose.ur = fe ? other_angle : joint_angle;
   pose.pressures_kpa[muscle] = pressure_kpa;
@@ -67,7 +67,7 @@ std::vector<Moment> range_of_motion_moments(const io::CsvTable& t) {
     if (t.number(row, c_rep) != 0.0) continue;
     const sim::MuscleIndex muscle = muscle_named(t, row, c_muscle);
     const double limit = deg_to_rad(t.number(row, c_limit));  // in the muscle's own direction
-    const WristPose pose = single_muscle_pose(muscle, sim::direction_of(muscle) * limit,
+    const WristPose pose = single_muscle_pose(muscle, physics::direction_of(muscle) * limit,
                                               deg_to_rad(t.number(row, c_other)), t.number(row, c_pressure));
     moments.push_back({fmt::format("rom_{}", sim::kMuscleNames[muscle]),
                        fmt::format("The {} alone at {:.0f} kPa, settled (first repetition): {}", sim::kMuscleNames[muscle],

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "physics/exosuit_layout.h"
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
 #include "physics/plausible_ranges.h"
@@ -74,12 +75,11 @@ std::optional<MuscleIndex> muscle_from_name(std::string_view name) {
 
 physics::Muscle DeviceDescription::muscle(int index) const {
   const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
-  return physics::Muscle{.placement = mount.placement,
-                         .rest_length = mount.rest_length,
-                         .wrist_radius = mount.wrist_radius,
-                         .fpam = fpam,
-                         .stretch_mode = stretch_mode,
-                         .mount_stiffness = mount_stiffness};
+  return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius};
+}
+
+physics::MuscleLaw DeviceDescription::muscle_law(const MuscleMount& mount) const {
+  return {.fpam = fpam, .rest_length = mount.rest_length, .stretch_mode = stretch_mode, .mount_stiffness = mount_stiffness};
 }
 
 DeviceDescription paper_device() {
@@ -97,14 +97,10 @@ DeviceDescription paper_device() {
   return device;
 }
 
-DeviceDescription parse_device(const std::string& json_text, const std::string& source_name) {
-  const json root = io::parse_json(json_text, source_name);
-  Reader top(root, source_name, "");
-  if (const std::string format = top.text("format", kFormat); format != kFormat) {
-    top.fail("format", fmt::format("'{}' is not '{}'", format, kFormat));
-  }
-  DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"))};
-  Reader muscles = top.child("muscles");
+namespace {
+
+// The four muscles' mounts, each checked against the device's fPAM.
+void read_muscle_mounts(Reader muscles, DeviceDescription& device) {
   for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
     Reader m = muscles.child(kMuscleNames[i]);
     MuscleMount& mount = device.muscles[i];
@@ -114,68 +110,84 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
     mount.wrist_radius = cm_to_m(m.number("rw_cm"));
     m.finish();
     try {
-      physics::validate(physics::Muscle{.placement = mount.placement, .rest_length = mount.rest_length,
-                                        .wrist_radius = mount.wrist_radius, .fpam = device.fpam});
+      physics::validate(physics::Muscle{
+          {.fpam = device.fpam, .rest_length = mount.rest_length}, mount.placement, mount.wrist_radius});
     } catch (const physics::InvalidParameter& e) {
       m.fail("", e.what());
     }
   }
   muscles.finish();
-  if (top.has("stretch")) {
-    Reader stretch = top.child("stretch");
-    const std::string mode = stretch.text("mode", "none");
-    const auto parsed = physics::parse_stretch_mode(mode);
-    if (!parsed) stretch.fail("mode", fmt::format("'{}' is not none, oneshot or selfconsistent", mode));
-    device.stretch_mode = *parsed;
-    device.mount_stiffness = {units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
-                              units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0))};
-    if (device.stretch_mode != physics::StretchMode::kNone) {
-      try {
-        physics::validate(device.mount_stiffness);
-      } catch (const physics::InvalidParameter& e) {
-        stretch.fail("", e.what());
-      }
+}
+
+void read_stretch(Reader stretch, DeviceDescription& device) {
+  const std::string mode = stretch.text("mode", "none");
+  const auto parsed = physics::parse_stretch_mode(mode);
+  if (!parsed) stretch.fail("mode", fmt::format("'{}' is not none, oneshot or selfconsistent", mode));
+  device.stretch_mode = *parsed;
+  device.mount_stiffness = {units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
+                            units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0))};
+  if (device.stretch_mode != physics::StretchMode::kNone) {
+    try {
+      physics::validate(device.mount_stiffness);
+    } catch (const physics::InvalidParameter& e) {
+      stretch.fail("", e.what());
     }
-    stretch.finish();
   }
-  if (top.has("regulator")) {
-    Reader r = top.child("regulator");
-    device.regulator.max_pressure = units::kpa_to_pa(r.positive("max_pressure_kpa", 137.0));
-    if (device.regulator.max_pressure > physics::plausible::kMaxPressure) {
-      r.fail("max_pressure_kpa", "must be at most 1000 (10 bar, far above a fabric muscle's burst pressure)");
-    }
-    device.regulator.time_constant = r.positive("time_constant_s", device.regulator.time_constant);
-    if (device.regulator.time_constant < physics::plausible::kMinTimeConstant ||
-        device.regulator.time_constant > physics::plausible::kMaxTimeConstant) {
-      r.fail("time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
-    }
-    r.finish();
+  stretch.finish();
+}
+
+void read_regulator(Reader r, Regulator& regulator) {
+  regulator.max_pressure = units::kpa_to_pa(r.positive("max_pressure_kpa", physics::kRegulatorMaxPressureKpa));
+  if (regulator.max_pressure > physics::plausible::kMaxPressure) {
+    r.fail("max_pressure_kpa", "must be at most 1000 (10 bar, far above a fabric muscle's burst pressure)");
   }
-  if (top.has("wrist")) {
-    Reader w = top.child("wrist");
-    PassiveWrist& p = device.wrist;
-    p.stiffness_fe = w.number("stiffness_fe_nm_per_rad", p.stiffness_fe);
-    p.stiffness_ur = w.number("stiffness_ur_nm_per_rad", p.stiffness_ur);
-    p.damping_fe = w.number("damping_fe_nms_per_rad", p.damping_fe);
-    p.damping_ur = w.number("damping_ur_nms_per_rad", p.damping_ur);
-    for (auto [key, value] : {std::pair{"stiffness_fe_nm_per_rad", p.stiffness_fe}, {"stiffness_ur_nm_per_rad", p.stiffness_ur},
-                              {"damping_fe_nms_per_rad", p.damping_fe}, {"damping_ur_nms_per_rad", p.damping_ur}}) {
-      if (value < 0.0) w.fail(key, fmt::format("must be >= 0, got {}", value));
-    }
-    p.flexion_limit = units::deg_to_rad(w.positive("flexion_limit_deg", units::rad_to_deg(p.flexion_limit)));
-    p.extension_limit = units::deg_to_rad(w.positive("extension_limit_deg", units::rad_to_deg(p.extension_limit)));
-    p.ulnar_limit = units::deg_to_rad(w.positive("ulnar_limit_deg", units::rad_to_deg(p.ulnar_limit)));
-    p.radial_limit = units::deg_to_rad(w.positive("radial_limit_deg", units::rad_to_deg(p.radial_limit)));
-    w.finish();
+  regulator.time_constant = r.positive("time_constant_s", regulator.time_constant);
+  if (regulator.time_constant < physics::plausible::kMinTimeConstant ||
+      regulator.time_constant > physics::plausible::kMaxTimeConstant) {
+    r.fail("time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
   }
-  if (top.has("hand")) {
-    Reader h = top.child("hand");
-    device.hand.mass = h.positive("mass_kg", device.hand.mass);
-    device.hand.com_distance = cm_to_m(h.positive("com_distance_cm", m_to_cm(device.hand.com_distance)));
-    device.hand.radius_of_gyration = cm_to_m(h.positive("radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)));
-    device.hand.length = cm_to_m(h.positive("length_cm", m_to_cm(device.hand.length)));
-    h.finish();
+  r.finish();
+}
+
+void read_wrist(Reader w, PassiveWrist& p) {
+  p.stiffness_fe = w.number("stiffness_fe_nm_per_rad", p.stiffness_fe);
+  p.stiffness_ur = w.number("stiffness_ur_nm_per_rad", p.stiffness_ur);
+  p.damping_fe = w.number("damping_fe_nms_per_rad", p.damping_fe);
+  p.damping_ur = w.number("damping_ur_nms_per_rad", p.damping_ur);
+  for (auto [key, value] : {std::pair{"stiffness_fe_nm_per_rad", p.stiffness_fe},
+                            {"stiffness_ur_nm_per_rad", p.stiffness_ur},
+                            {"damping_fe_nms_per_rad", p.damping_fe}, {"damping_ur_nms_per_rad", p.damping_ur}}) {
+    if (value < 0.0) w.fail(key, fmt::format("must be >= 0, got {}", value));
   }
+  p.flexion_limit = units::deg_to_rad(w.positive("flexion_limit_deg", units::rad_to_deg(p.flexion_limit)));
+  p.extension_limit = units::deg_to_rad(w.positive("extension_limit_deg", units::rad_to_deg(p.extension_limit)));
+  p.ulnar_limit = units::deg_to_rad(w.positive("ulnar_limit_deg", units::rad_to_deg(p.ulnar_limit)));
+  p.radial_limit = units::deg_to_rad(w.positive("radial_limit_deg", units::rad_to_deg(p.radial_limit)));
+  w.finish();
+}
+
+void read_hand(Reader h, Hand& hand) {
+  hand.mass = h.positive("mass_kg", hand.mass);
+  hand.com_distance = cm_to_m(h.positive("com_distance_cm", m_to_cm(hand.com_distance)));
+  hand.radius_of_gyration = cm_to_m(h.positive("radius_of_gyration_cm", m_to_cm(hand.radius_of_gyration)));
+  hand.length = cm_to_m(h.positive("length_cm", m_to_cm(hand.length)));
+  h.finish();
+}
+
+}  // namespace
+
+DeviceDescription parse_device(const std::string& json_text, const std::string& source_name) {
+  const json root = io::parse_json(json_text, source_name);
+  Reader top(root, source_name, "");
+  if (const std::string format = top.text("format", kFormat); format != kFormat) {
+    top.fail("format", fmt::format("'{}' is not '{}'", format, kFormat));
+  }
+  DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"))};
+  read_muscle_mounts(top.child("muscles"), device);
+  if (top.has("stretch")) read_stretch(top.child("stretch"), device);
+  if (top.has("regulator")) read_regulator(top.child("regulator"), device.regulator);
+  if (top.has("wrist")) read_wrist(top.child("wrist"), device.wrist);
+  if (top.has("hand")) read_hand(top.child("hand"), device.hand);
   top.finish();
   return device;
 }

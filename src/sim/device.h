@@ -9,15 +9,19 @@
 #include <string>
 #include <string_view>
 
-#include "control/plant.h"
+#include "physics/exosuit_layout.h"
 #include "physics/muscle_torque.h"
 #include "physics/units.h"
 
 namespace softwrist::sim {
 
-// The four muscles, in the order of the model's tendons and actuators.
-enum MuscleIndex { kFlexor = 0, kExtensor = 1, kUlnar = 2, kRadial = 3 };
-using control::kMuscleNames;
+// The four muscles, in the order of the model's tendons and actuators (physics/exosuit_layout.h).
+using physics::kExtensor;
+using physics::kFlexor;
+using physics::kMuscleNames;
+using physics::kRadial;
+using physics::kUlnar;
+using physics::MuscleIndex;
 // The muscle of that name (kMuscleNames), or nullopt.
 std::optional<MuscleIndex> muscle_from_name(std::string_view name);
 
@@ -51,7 +55,7 @@ struct Hand {
 };
 
 struct Regulator {
-  double max_pressure = 137e3;  // [Pa] (Section Exosuit Prototype: QB3 regulators, 0-137 kPa)
+  double max_pressure = physics::kRegulatorMaxPressure;  // [Pa]
   // The paper gives no regulator dynamics. 0.1 s is an assumed first-order time constant for a closed-loop
   // regulator filling a ~0.1 L fPAM through 6.35 mm tubing; the gap diagnosis's regulator_lag effect fits it.
   double time_constant = 0.1;   // [s]
@@ -68,6 +72,8 @@ struct DeviceDescription {
 
   // The physics-core description of muscle i, for the analytic model.
   physics::Muscle muscle(int index) const;
+  // The length-to-force law of a muscle mounted as `mount` (this device's fPAM and mounts): what its plugin holds.
+  physics::MuscleLaw muscle_law(const MuscleMount& mount) const;
 };
 
 // The paper's device: the flexor of Table torque_measurement_parameters (with its r_w = 3.99 cm and K1, K2), the

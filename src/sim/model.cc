@@ -6,16 +6,14 @@
 
 #include <fmt/format.h>
 
+#include "mujoco_names.h"
 #include "plugin_config.h"
 #include "io/text_file.h"
 
 namespace softwrist::sim {
 namespace {
 
-std::string actuator_name(const mjModel* m, int id) {
-  const char* name = mj_id2name(m, mjOBJ_ACTUATOR, id);
-  return name != nullptr ? name : fmt::format("#{}", id);
-}
+using plugin::actuator_name;
 
 // Every actuator left to user callbacks must name a plugin that is loaded.
 void check_plugin_names(const mjModel* m, const PluginSet& plugins, const std::string& source) {

@@ -5,7 +5,9 @@
 
 #include <fmt/format.h>
 
+#include "fpam_config.h"
 #include "physics/units.h"
+#include "plugin_config.h"
 
 namespace softwrist::sim {
 namespace {
@@ -26,37 +28,12 @@ std::string vec(double x, const std::array<double, 3>& side, double offset) {
   return fmt::format("{:.6g} {:.6g} {:.6g}", x + 0.0, side[1] * offset + 0.0, side[2] * offset + 0.0);
 }
 
-std::string list(const std::vector<double>& values) {
-  std::string out;
-  for (const double v : values) out += (out.empty() ? "" : ",") + fmt::format("{:.10g}", v);
-  return out;
-}
-
-// The plugin configuration of one muscle (fpam_actuator.h's attributes).
+// The plugin configuration of one muscle (plugins/fpam/fpam_config.h).
 std::string plugin_config(const DeviceDescription& device, const MuscleMount& mount) {
-  std::string config = fmt::format("softwrist.fpam rest_length={:.10g}", mount.rest_length);
-  const auto& rows = device.fpam.rows();
-  if (device.fpam.is_constant()) {
-    config += fmt::format(" r0={:.10g} eps_max={:.10g}", rows[0].radius, rows[0].max_contraction);
-  } else {
-    std::vector<double> p, r, e;
-    for (const auto& row : rows) {
-      p.push_back(units::pa_to_kpa(row.pressure));
-      r.push_back(row.radius);
-      e.push_back(row.max_contraction);
-    }
-    config += fmt::format(" table_pressure_kpa={} table_r0={} table_eps_max={}", list(p), list(r), list(e));
-  }
-  const auto& fabric = device.fpam.fabric();
-  config += fmt::format(" elastic_modulus={:.10g} thickness={:.10g} epsilon0={:.10g}", fabric.elastic_modulus,
-                        fabric.thickness, fabric.elastic_onset_contraction);
-  config += fmt::format(" stretch={}", physics::to_string(device.stretch_mode));
-  if (device.stretch_mode != physics::StretchMode::kNone) {
-    config += fmt::format(" K1={:.10g} K2={:.10g}", device.mount_stiffness.forearm, device.mount_stiffness.hand);
-  }
-  config += fmt::format(" max_pressure_kpa={:.10g} time_constant={:.10g}", units::pa_to_kpa(device.regulator.max_pressure),
-                        device.regulator.time_constant);
-  return config;
+  const plugin::FpamConfig config{.law = device.muscle_law(mount),
+                                  .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
+                                  .time_constant = device.regulator.time_constant};
+  return config.ToText();
 }
 
 }  // namespace
@@ -88,7 +65,8 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
         "      <site site=\"{0}_hand\"/>\n    </spatial>\n",
         name);
     if (options.actuators == ActuatorKind::kFpamPlugin) {
-      custom += fmt::format("    <text name=\"plugin:{}\" data=\"{}\"/>\n", name, plugin_config(device, m));
+      custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
+                            plugin_config(device, m));
       actuators += fmt::format(
           "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"user\" gaintype=\"user\" biastype=\"user\" "
           "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "physics/units.h"
 
 namespace softwrist::sim {
@@ -27,16 +29,19 @@ SimulatedPlant::SimulatedPlant(const Model& model, double max_pressure_kpa, ImuM
 }
 
 void SimulatedPlant::command_pressures_kpa(const control::Pressures& pressures) {
-  control::Pressures clamped{};
   for (std::size_t i = 0; i < 4; ++i) {
-    clamped[i] = std::isfinite(pressures[i]) ? std::clamp(pressures[i], 0.0, max_pressure_kpa_) : 0.0;
+    if (!(pressures[i] >= 0.0 && pressures[i] <= max_pressure_kpa_)) {  // NaN fails too
+      wrist_.command_pressures_kpa({0.0, 0.0, 0.0, 0.0});
+      throw control::PlantFault(fmt::format("a command of {} kPa for the {} is outside 0-{} kPa: vented", pressures[i],
+                                            control::kMuscleNames[i], max_pressure_kpa_));
+    }
   }
-  wrist_.command_pressures_kpa(clamped);
+  wrist_.command_pressures_kpa(pressures);
 }
 
 control::WristAngles SimulatedPlant::true_angles() const {
-  return {.fe_deg = units::rad_to_deg(wrist_.angle(WristJoint::kFlexionExtension)),
-          .ur_deg = units::rad_to_deg(wrist_.angle(WristJoint::kUlnarRadial))};
+  return {.fe_deg = units::rad_to_deg(wrist_.angle(physics::WristAxis::kFlexionExtension)),
+          .ur_deg = units::rad_to_deg(wrist_.angle(physics::WristAxis::kUlnarRadial))};
 }
 
 control::WristAngles SimulatedPlant::ideal_imu_angles() {

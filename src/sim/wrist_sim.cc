@@ -21,12 +21,6 @@ void check_stable(const mjData* d) {
 
 }  // namespace
 
-WristJoint joint_of(MuscleIndex muscle) {
-  return muscle == kFlexor || muscle == kExtensor ? WristJoint::kFlexionExtension : WristJoint::kUlnarRadial;
-}
-
-double direction_of(MuscleIndex muscle) { return muscle == kFlexor || muscle == kUlnar ? 1.0 : -1.0; }
-
 WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) {
   const char* names[2] = {"wrist_fe", "wrist_ur"};
   for (int j = 0; j < 2; ++j) {
@@ -79,12 +73,12 @@ void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& press
   mj_forward(model_.get(), data_.get());
 }
 
-double WristSim::angle(WristJoint joint) const { return data_->qpos[qpos_address_[static_cast<int>(joint)]]; }
-double WristSim::velocity(WristJoint joint) const { return data_->qvel[dof_address_[static_cast<int>(joint)]]; }
+double WristSim::angle(physics::WristAxis joint) const { return data_->qpos[qpos_address_[static_cast<int>(joint)]]; }
+double WristSim::velocity(physics::WristAxis joint) const { return data_->qvel[dof_address_[static_cast<int>(joint)]]; }
 
 double WristSim::muscle_torque(MuscleIndex muscle) const {
-  const int dof = dof_address_[static_cast<int>(joint_of(muscle))];
-  return direction_of(muscle) * data_->actuator_force[muscle] * data_->actuator_moment[muscle * model_->nv + dof];
+  const int dof = dof_address_[static_cast<int>(physics::axis_of(muscle))];
+  return physics::direction_of(muscle) * data_->actuator_force[muscle] * data_->actuator_moment[muscle * model_->nv + dof];
 }
 
 }  // namespace softwrist::sim

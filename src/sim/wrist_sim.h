@@ -10,11 +10,6 @@
 
 namespace softwrist::sim {
 
-enum class WristJoint { kFlexionExtension, kUlnarRadial };
-
-// The joint a muscle moves and the sign of its own direction on it: flexor +FE, extensor -FE, ulnar +UR, radial -UR.
-WristJoint joint_of(MuscleIndex muscle);
-double direction_of(MuscleIndex muscle);
 
 class WristSim {
  public:
@@ -35,8 +30,8 @@ class WristSim {
   void set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa);
 
   double time() const { return data_->time; }
-  double angle(WristJoint joint) const;     // [rad]
-  double velocity(WristJoint joint) const;  // [rad/s]
+  double angle(physics::WristAxis joint) const;     // [rad]
+  double velocity(physics::WristAxis joint) const;  // [rad/s]
   double regulated_pressure_kpa(MuscleIndex muscle) const { return data_->act[muscle]; }
   // The torque one muscle applies about its joint, positive in its own direction [N m] (its share of
   // qfrc_actuator: force times moment arm).

@@ -3,15 +3,6 @@
 #include "sim/wrist_sim.h"
 
 namespace softwrist::sim {
-namespace {
-
-physics::WristAxis axis_of(MuscleIndex muscle) {
-  return joint_of(muscle) == WristJoint::kFlexionExtension ? physics::WristAxis::kFlexionExtension
-                                                           : physics::WristAxis::kUlnarRadial;
-}
-
-}  // namespace
-
 physics::WristModel wrist_model(const DeviceDescription& device, double gravity) {
   return {.muscles = {.flexion_extension = {.agonist = device.muscle(kFlexor), .antagonist = device.muscle(kExtensor)},
                       .ulnar_radial = {.agonist = device.muscle(kUlnar), .antagonist = device.muscle(kRadial)}},
@@ -26,9 +17,9 @@ physics::WristModel wrist_model(const DeviceDescription& device, double gravity)
 
 StaticTorques static_torques(const DeviceDescription& device, MuscleIndex muscle, double pressure, double angle,
                              double gravity) {
-  const double direction = direction_of(muscle);
+  const double direction = physics::direction_of(muscle);
   const bool agonist = direction > 0.0;
-  const physics::AxisTorques t = physics::axis_torques(wrist_model(device, gravity), axis_of(muscle),
+  const physics::AxisTorques t = physics::axis_torques(wrist_model(device, gravity), physics::axis_of(muscle),
                                                        direction * angle, agonist ? pressure : 0.0,
                                                        agonist ? 0.0 : pressure);
   return {.muscle = direction * (agonist ? t.agonist : t.antagonist),
@@ -38,9 +29,9 @@ StaticTorques static_torques(const DeviceDescription& device, MuscleIndex muscle
 }
 
 double settled_angle(const DeviceDescription& device, MuscleIndex muscle, double pressure, double gravity) {
-  const double direction = direction_of(muscle);
+  const double direction = physics::direction_of(muscle);
   const bool agonist = direction > 0.0;
-  return direction * physics::settled_angle(wrist_model(device, gravity), axis_of(muscle), direction,
+  return direction * physics::settled_angle(wrist_model(device, gravity), physics::axis_of(muscle), direction,
                                             agonist ? pressure : 0.0, agonist ? 0.0 : pressure);
 }
 

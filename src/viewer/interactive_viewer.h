@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 
+#include "physics/exosuit_layout.h"
 #include "sim/model.h"
 
 namespace softwrist::viewer {
@@ -20,7 +21,7 @@ struct ViewerOptions {
   int frames = 0;
   std::filesystem::path screenshot;             // PNG of the last frame
   std::map<int, double> initial_commands_kpa;   // actuator index -> command
-  double default_max_kpa = 137.0;               // command range of actuators without ctrlrange
+  double default_max_kpa = physics::kRegulatorMaxPressureKpa;              // command range of actuators without ctrlrange
 };
 
 struct ViewerSummary {

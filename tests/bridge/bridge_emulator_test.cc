@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 
 #include "bridge/bridge_plant.h"
-#include "bridge/device_emulator.h"
-#include "bridge/hardware_trial.h"
-#include "bridge/lockstep_link.h"
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/hardware_trial.h"
+#include "bridge_apps/lockstep_link.h"
 #include "control/tracking_loop.h"
 #include "experiments/runner.h"
 #include "io/text_file.h"
@@ -232,14 +232,14 @@ TEST(BridgeFaults, TheDeviceClampsAndRejectsWhatAHostSendsWrong) {
     char buffer[wire::kMaxLine + 2];
     raw->write_all(buffer, wire::format_packet(p, buffer, sizeof buffer));
   };
-  send(1, 'H', {wire::kProtocolVersion});
+  send(1, wire::kHelloPacket, {wire::kProtocolVersion});
   for (int k = 0; k < 20; ++k) {  // 5000 dkPa = 500 kPa, bypassing the host's checks
-    send(2 + k, 'S', {5000, 0, 0, 0});
+    send(2 + k, wire::kSetPacket, {5000, 0, 0, 0});
     rig.link().run_for_ms(10);
   }
   const std::string junk = "S 40 1370 1370 1370 1370 *00\nD 1 2 3\n\x01\xff garbage\n";
   raw->write_all(junk.data(), junk.size());  // a bad checksum, a device packet, noise
-  send(10, 'S', {1370, 1370, 1370, 1370});   // valid checksum, stale sequence number
+  send(10, wire::kSetPacket, {1370, 1370, 1370, 1370});   // valid checksum, stale sequence number
   rig.link().run_for_ms(100);                // the watchdog vents 41 ms after the last valid command
   const EmulatorStats stats = rig.stats();
   EXPECT_EQ(stats.max_output_dkpa, 1370);

@@ -18,8 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "bridge/bridge_plant.h"
-#include "bridge/device_emulator.h"
-#include "bridge/soak.h"
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/soak.h"
 #include "experiments/runner.h"
 #include "io/subprocess.h"
 #include "io/text_file.h"

@@ -1,7 +1,7 @@
-// The lock-step rig (bridge/lockstep_link.h): the line's rate, the host's clock, the cable, the faults on the line.
+// The lock-step rig (bridge_apps/lockstep_link.h): the line's rate, the host's clock, the cable, the faults on the line.
 // (The bridge and the emulator on it: bridge_emulator_test.cc.)
 
-#include "bridge/lockstep_link.h"
+#include "bridge_apps/lockstep_link.h"
 
 #include <memory>
 #include <optional>
@@ -50,7 +50,7 @@ TEST(LockstepLink, ALinkCutIsGoneForTheHostAndTheCableStaysOut) {
   LockstepLink rig(emulator);
   const std::unique_ptr<Link> host = rig.open_host();
   wire::Packet p{};  // a hello: the device's fault schedule starts at the first one
-  p.type = 'H';
+  p.type = wire::kHelloPacket;
   p.count = 1;
   p.fields[0] = wire::kProtocolVersion;
   char line[wire::kMaxLine + 2];

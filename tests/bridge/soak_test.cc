@@ -6,7 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bridge/soak.h"
+#include "bridge_apps/soak.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::bridge {

@@ -27,6 +27,16 @@ std::string with_checksum(const std::string& body) {
   return body + "*" + hex;
 }
 
+// docs/bridge-protocol.md: the TYPE letters, which the firmware already in the field speaks.
+TEST(WireFormat, PacketTypesAreTheDocumentedLetters) {
+  EXPECT_EQ(kHelloPacket, 'H');
+  EXPECT_EQ(kSetPacket, 'S');
+  EXPECT_EQ(kStopPacket, 'E');
+  EXPECT_EQ(kHelloReplyPacket, 'V');
+  EXPECT_EQ(kDataPacket, 'D');
+  EXPECT_EQ(kRejectPacket, 'R');
+}
+
 TEST(WireFormat, PacketsRoundTrip) {
   const Packet set{'S', 65535, 4, {0, 1370, 5, -1}};
   const std::string line = format(set);

@@ -34,12 +34,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         char buffer[wire::kMaxLine + 2];
         FUZZ_CHECK(wire::format_packet(reply, buffer, sizeof buffer) > 0, "reply %c", reply.type);
       }
-      if (type == 'S') {
+      if (type == wire::kSetPacket) {
         last_command_ms = now_ms;
         commanded = true;
       }
-      if (type == 'H') commanded = false;
-      if (type == 'E') {
+      if (type == wire::kHelloPacket) commanded = false;
+      if (type == wire::kStopPacket) {
         std::int32_t output[4];
         gate.update(now_ms, output);
         for (int m = 0; m < 4; ++m) FUZZ_CHECK(output[m] == 0, "not vented after an emergency stop");

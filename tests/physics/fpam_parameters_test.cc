@@ -68,3 +68,24 @@ TEST(FpamParameters, RejectsInvalidParametersNamingThem) {
 
 }  // namespace
 }  // namespace softwrist::physics
+
+namespace softwrist::physics {
+namespace {
+
+// The one way to edit an fPAM: same fabric, the edited rows validated like a new table.
+TEST(FpamParameters, WithRowsKeepsTheFabricAndValidatesTheRows) {
+  const FabricProperties fabric{.elastic_modulus = 8e6, .thickness = 0.1e-3, .elastic_onset_contraction = 0.15};
+  const FpamParameters table = FpamParameters::Table({{0.0, 0.012, 0.15}, {137e3, 0.0126, 0.277}}, fabric);
+  auto rows = table.rows();
+  rows[1].radius = 0.013;
+  const FpamParameters edited = table.with_rows(rows);
+  EXPECT_DOUBLE_EQ(edited.at_pressure(137e3).radius, 0.013);
+  EXPECT_DOUBLE_EQ(edited.fabric().elastic_modulus, 8e6);
+  EXPECT_TRUE(table.with_rows({rows[1]}).is_constant());
+  rows[1].pressure = 0.0;  // not increasing
+  EXPECT_THROW(table.with_rows(rows), InvalidParameter);
+  EXPECT_THROW(table.with_rows({}), InvalidParameter);
+}
+
+}  // namespace
+}  // namespace softwrist::physics

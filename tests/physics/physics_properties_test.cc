@@ -27,12 +27,16 @@ struct RandomMuscles {
                               .d2 = uniform(0.015, 0.09), .w2 = uniform(0.015, 0.035)};
     const double r_w = uniform(0.01, std::min(0.03, 0.99 * std::hypot(placement.d2, placement.w2)));
     const double rest = rest_length_for_range(placement, r_w, deg_to_rad(uniform(-90.0, -30.0)));
-    return Muscle{.placement = placement,
-                  .rest_length = rest * uniform(0.95, 1.05),
-                  .wrist_radius = r_w,
-                  .fpam = FpamParameters::Constant(uniform(0.005, 0.02), uniform(0.05, 0.42)),
-                  .stretch_mode = mode,
-                  .mount_stiffness = {uniform(1e4, 1e7), -uniform(1e4, 1e8)}};
+    // Drawn in this order (the properties' random devices stay the same).
+    const double rest_length = rest * uniform(0.95, 1.05);
+    const double r0 = uniform(0.005, 0.02), eps_max = uniform(0.05, 0.42);
+    const double k1 = uniform(1e4, 1e7), k2 = -uniform(1e4, 1e8);
+    return Muscle{{.fpam = FpamParameters::Constant(r0, eps_max),
+                   .rest_length = rest_length,
+                   .stretch_mode = mode,
+                   .mount_stiffness = {k1, k2}},
+                  placement,
+                  r_w};
   }
 };
 

@@ -110,10 +110,10 @@ TEST(ModelRobustness, RandomValidDevicesUnderRandomPressuresSimulateStably) {
       const std::array<std::pair<double, double>, 2> range = {
           std::pair{-device.wrist.extension_limit - give, device.wrist.flexion_limit + give},
           std::pair{-device.wrist.radial_limit - give, device.wrist.ulnar_limit + give}};
-      for (WristJoint joint : {WristJoint::kFlexionExtension, WristJoint::kUlnarRadial}) {
+      for (physics::WristAxis joint : {physics::WristAxis::kFlexionExtension, physics::WristAxis::kUlnarRadial}) {
         const double angle = sim.angle(joint);
         ASSERT_TRUE(std::isfinite(angle) && std::isfinite(sim.velocity(joint))) << "segment " << segment;
-        const auto [low, high] = range[joint == WristJoint::kFlexionExtension ? 0 : 1];
+        const auto [low, high] = range[joint == physics::WristAxis::kFlexionExtension ? 0 : 1];
         ASSERT_TRUE(angle > low && angle < high) << "segment " << segment << ": " << angle << " rad";
         ASSERT_LT(std::abs(sim.velocity(joint)), 100.0) << "segment " << segment;
       }

@@ -1,5 +1,5 @@
 // The simulated plant: the IMU pair's angles from the bodies' relative orientation, its sampling and noise, and
-// pressure clamping.
+// the command contract (control/plant.h).
 
 #include "sim/simulated_plant.h"
 
@@ -59,14 +59,26 @@ TEST(SimulatedPlant, SamplesAt100HzWithBoundedBiasAndNoise) {
   EXPECT_NEAR(std, 0.2, 0.05);
 }
 
-TEST(SimulatedPlant, CommandsAreClampedToTheRegulatorRange) {
+// control/plant.h's contract: a command outside the regulator range, or NaN, vents and throws naming the muscle.
+TEST(SimulatedPlant, ACommandOutsideTheRangeVentsAndThrowsNamingTheMuscle) {
   SimulatedPlant plant(paper_model(), 137.0, {.noise_std_deg = 0.0, .bias_limit_deg = 0.0});
-  plant.command_pressures_kpa({500.0, -20.0, NAN, 50.0});
+  plant.command_pressures_kpa({137.0, 0.0, 0.0, 50.0});  // the ends of the range are in it
   plant.wait_until(1.5);
   EXPECT_NEAR(plant.wrist().regulated_pressure_kpa(kFlexor), 137.0, 0.1);
-  EXPECT_EQ(plant.wrist().regulated_pressure_kpa(kExtensor), 0.0);
-  EXPECT_EQ(plant.wrist().regulated_pressure_kpa(kUlnar), 0.0);
   EXPECT_NEAR(plant.wrist().regulated_pressure_kpa(kRadial), 50.0, 0.1);
+  for (const control::Pressures& bad : {control::Pressures{500.0, 0.0, 0.0, 50.0}, control::Pressures{0.0, -20.0, 0.0, 0.0},
+                                        control::Pressures{0.0, 0.0, NAN, 0.0}}) {
+    plant.command_pressures_kpa({137.0, 0.0, 0.0, 50.0});
+    try {
+      plant.command_pressures_kpa(bad);
+      ADD_FAILURE() << "no fault";
+    } catch (const control::PlantFault& e) {
+      const std::string muscle = bad[0] != 0.0 ? "flexor" : bad[1] != 0.0 ? "extensor" : "ulnar";
+      EXPECT_NE(std::string(e.what()).find(muscle), std::string::npos) << e.what();
+    }
+    plant.wait_until(plant.time_s() + 1.5);
+    for (auto m : {kFlexor, kExtensor, kUlnar, kRadial}) EXPECT_NEAR(plant.wrist().regulated_pressure_kpa(m), 0.0, 0.1);
+  }
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bridge/bridge_plant.h"
-#include "bridge/device_emulator.h"
+#include "bridge_apps/device_emulator.h"
 #include "experiments/experiment.h"
 
 namespace softwrist::testing {

@@ -1,4 +1,4 @@
-#include "bridge/hardware_trial.h"
+#include "bridge_apps/hardware_trial.h"
 
 #include <fstream>
 #include <memory>
@@ -62,34 +62,40 @@ void write_bridge_record(const std::filesystem::path& out, const BridgePlant& pl
   std::filesystem::rename(tmp, out / "bridge.json");
 }
 
-}  // namespace
-
-TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& plant, const TrialOptions& options) {
-  const std::unique_ptr<experiments::Experiment> experiment = experiments::make_experiment(config);
-  const auto* tracking = dynamic_cast<const experiments::Tracking*>(experiment.get());
+const experiments::Tracking& tracking_experiment(const experiments::ExperimentConfig& config,
+                                                 const experiments::Experiment& experiment) {
+  const auto* tracking = dynamic_cast<const experiments::Tracking*>(&experiment);
   if (!tracking) {
     throw std::runtime_error(fmt::format("{}: a trial runs tracking experiments; this is a {} experiment",
-                                         config.source, experiment->kind()));
+                                         config.source, experiment.kind()));
   }
-  std::vector<std::unique_ptr<control::Controller>> controllers = tracking->make_controllers();
+  return *tracking;
+}
+
+// The indices of the controllers named in `names`, in that order; all of them when `names` is empty.
+std::vector<int> choose_controllers(const std::vector<std::unique_ptr<control::Controller>>& controllers,
+                                    const std::vector<std::string>& names, const std::string& source) {
   std::vector<int> chosen;
-  if (options.controllers.empty()) {
+  if (names.empty()) {
     for (std::size_t i = 0; i < controllers.size(); ++i) chosen.push_back(static_cast<int>(i));
   }
-  for (const std::string& name : options.controllers) {
-    std::vector<std::string> names;
+  for (const std::string& name : names) {
+    std::vector<std::string> known;
     int found = -1;
     for (std::size_t i = 0; i < controllers.size(); ++i) {
-      names.push_back(controllers[i]->name());
+      known.push_back(controllers[i]->name());
       if (controllers[i]->name() == name) found = static_cast<int>(i);
     }
     if (found < 0) {
-      throw std::runtime_error(fmt::format("{}: no controller '{}' (it has: {})", config.source, name,
-                                           fmt::join(names, ", ")));
+      throw std::runtime_error(fmt::format("{}: no controller '{}' (it has: {})", source, name,
+                                           fmt::join(known, ", ")));
     }
     chosen.push_back(found);
   }
-  const int repetitions = options.repetitions.value_or(tracking->repetitions());
+  return chosen;
+}
+
+void check_trial_options(const TrialOptions& options, int repetitions) {
   if (repetitions < 1) throw std::runtime_error("a trial needs at least one repetition");
   const double rest_s = options.rest_s;
   if (!(rest_s >= 0.0)) throw std::runtime_error("the rest before each run must be >= 0 s");
@@ -99,19 +105,83 @@ TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& 
                                          "is not resumed but run again: choose another --out, or replace it with "
                                          "--overwrite", options.out.string()));
   }
+}
 
-  experiments::LogHeader header{.kind = experiment->kind(),
-                                .source = "hardware",
-                                .config = config.json,
-                                .config_dir = config.base_dir.string(),
-                                .config_hash = experiments::content_hash(config.json.dump()),
-                                .model_hash = experiment->model_hash(),
-                                .columns = hardware_columns(),
-                                .case_count = static_cast<int>(controllers.size()) * repetitions};
+experiments::LogHeader trial_log_header(const experiments::ExperimentConfig& config,
+                                        const experiments::Experiment& experiment, int case_count) {
+  return {.kind = experiment.kind(),
+          .source = "hardware",
+          .config = config.json,
+          .config_dir = config.base_dir.string(),
+          .config_hash = experiments::content_hash(config.json.dump()),
+          .model_hash = experiment.model_hash(),
+          .columns = hardware_columns(),
+          .case_count = case_count};
+}
+
+// What every run of a trial shares.
+struct TrialContext {
+  BridgePlant& plant;
+  const experiments::Tracking& tracking;
+  const control::TrackingOptions& loop;
+  const TrialOptions& options;
+  experiments::LogWriter& writer;
+};
+
+// One run (a session of one controller and repetition), its rows written as they come; a fault ends it vented and
+// is kept in `result`. Either way the run is appended to `runs`.
+void run_repetition(const TrialContext& trial, control::Controller& controller, int r, int case_index,
+                    TrialResult& result, nlohmann::json& runs) {
+  BridgePlant& plant = trial.plant;
+  const TrialOptions& options = trial.options;
+  long rows = 0;
+  const auto write_sample = [&](const control::TrackingSample& s) {
+    experiments::Row row = experiments::tracking_row(r, controller.name(), s);
+    row.insert(row.begin(), std::to_string(case_index));
+    for (double p : plant.measured_pressures_kpa()) row.push_back(io::format_number(p));
+    row.push_back(std::to_string(plant.device_flags()));
+    trial.writer.write_row(row);
+    ++rows;
+    if (options.interrupt && options.interrupt->load()) throw Interrupted();
+  };
+  try {
+    plant.start_session();
+    plant.wait_until(plant.time_s() + options.rest_s);
+    control::run_tracking(plant, controller, trial.tracking.trajectory(), trial.loop, write_sample);
+    plant.end_session();
+    ++result.runs_completed;
+    runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
+                    {"completed", true}});
+  } catch (const std::exception& e) {
+    // BridgeFault has vented already; the rest (a controller fault, an interrupt) vent here.
+    try {
+      if (plant.in_session()) plant.end_session();
+    } catch (const BridgeFault&) {
+    }
+    result.fault = fmt::format("{} repetition {} (case {}), after {} rows: {}", controller.name(), r, case_index,
+                               rows, e.what());
+    runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
+                    {"completed", false}, {"fault", e.what()}});
+  }
+}
+
+}  // namespace
+
+TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& plant, const TrialOptions& options) {
+  const std::unique_ptr<experiments::Experiment> experiment = experiments::make_experiment(config);
+  const experiments::Tracking& tracking = tracking_experiment(config, *experiment);
+  std::vector<std::unique_ptr<control::Controller>> controllers = tracking.make_controllers();
+  const std::vector<int> chosen = choose_controllers(controllers, options.controllers, config.source);
+  const int repetitions = options.repetitions.value_or(tracking.repetitions());
+  check_trial_options(options, repetitions);
+
+  experiments::LogHeader header =
+      trial_log_header(config, *experiment, static_cast<int>(controllers.size()) * repetitions);
   std::filesystem::remove(options.out / "summary.json");
   experiments::LogWriter writer(options.out, experiments::kTrialLogName, header);
-  control::TrackingOptions loop = tracking->options();
+  control::TrackingOptions loop = tracking.options();
   loop.out_of_range = control::TrackingOptions::OutOfRange::kStop;
+  const TrialContext trial{plant, tracking, loop, options, writer};
 
   TrialResult result{.runs_planned = static_cast<int>(chosen.size()) * repetitions};
   nlohmann::json runs = nlohmann::json::array();
@@ -123,34 +193,7 @@ TrialResult run_trial(const experiments::ExperimentConfig& config, BridgePlant& 
         *options.progress << fmt::format("run {}/{}: {} repetition {} (case {})\n", result.runs_completed + 1,
                                          result.runs_planned, controller.name(), r, case_index);
       }
-      long rows = 0;
-      try {
-        plant.start_session();
-        plant.wait_until(plant.time_s() + rest_s);
-        control::run_tracking(plant, controller, tracking->trajectory(), loop, [&](const control::TrackingSample& s) {
-          experiments::Row row = experiments::tracking_row(r, controller.name(), s);
-          row.insert(row.begin(), std::to_string(case_index));
-          for (double p : plant.measured_pressures_kpa()) row.push_back(io::format_number(p));
-          row.push_back(std::to_string(plant.device_flags()));
-          writer.write_row(row);
-          ++rows;
-          if (options.interrupt && options.interrupt->load()) throw Interrupted();
-        });
-        plant.end_session();
-        ++result.runs_completed;
-        runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
-                        {"completed", true}});
-      } catch (const std::exception& e) {
-        // BridgeFault has vented already; the rest (a controller fault, an interrupt) vent here.
-        try {
-          if (plant.in_session()) plant.end_session();
-        } catch (const BridgeFault&) {
-        }
-        result.fault = fmt::format("{} repetition {} (case {}), after {} rows: {}", controller.name(), r, case_index,
-                                   rows, e.what());
-        runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
-                        {"completed", false}, {"fault", e.what()}});
-      }
+      run_repetition(trial, controller, r, case_index, result, runs);
       write_bridge_record(options.out, plant, runs, result.fault);
     }
     if (result.fault) break;

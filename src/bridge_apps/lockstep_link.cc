@@ -1,4 +1,4 @@
-#include "bridge/lockstep_link.h"
+#include "bridge_apps/lockstep_link.h"
 
 #include <algorithm>
 #include <stdexcept>

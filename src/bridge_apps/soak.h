@@ -23,8 +23,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bridge/device_emulator.h"
-#include "bridge/line_faults.h"
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/line_faults.h"
 #include "experiments/experiment.h"
 
 namespace softwrist::bridge {

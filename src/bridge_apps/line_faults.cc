@@ -1,4 +1,4 @@
-#include "bridge/line_faults.h"
+#include "bridge_apps/line_faults.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "bridge/device_emulator.h"
+#include "bridge_apps/device_emulator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -186,7 +186,7 @@ void DeviceEmulator::handle_line(std::uint32_t now, DeviceUart& uart) {
     return;
   }
   ++stats_.packets_accepted;
-  if (type == 'H') {
+  if (type == wire::kHelloPacket) {
     // The subject puts the wrist at neutral and holds it there, vented, until the first command: the host zeroes
     // the angles there, as the paper did.
     device_->plant.hold(control::WristAngles{});
@@ -194,10 +194,10 @@ void DeviceEmulator::handle_line(std::uint32_t now, DeviceUart& uart) {
     if (!fw.first_hello_ms) fw.first_hello_ms = now;
     fw.hello_pending = true;
     fw.last_command_ms = fw.last_imu_ms = now;
-  } else if (type == 'S') {
+  } else if (type == wire::kSetPacket) {
     device_->plant.hold(std::nullopt);
     fw.last_command_ms = now;
-  } else if (type == 'E') {
+  } else if (type == wire::kStopPacket) {
     fw.estop_pending = true;
     fw.estop_ms = now;
   }
@@ -282,7 +282,11 @@ void DeviceEmulator::update_outputs(std::uint32_t t) {
   fw.setpoints.push_back({t, out});
   while (fw.setpoints.size() > 1 && fw.setpoints[1].first + fw.dead_time_ms <= t) fw.setpoints.pop_front();
   const std::array<int32_t, 4>& applied = now_vented ? out : fw.setpoints.front().second;
-  device_->plant.command_pressures_kpa({applied[0] / 10.0, applied[1] / 10.0, applied[2] / 10.0, applied[3] / 10.0});
+  // A regulator saturates at its range whatever the device's configured limit (the plant refuses anything else).
+  const double max_kpa = device_->plant.max_pressure_kpa();
+  control::Pressures setpoints_kpa{};
+  for (std::size_t i = 0; i < 4; ++i) setpoints_kpa[i] = std::clamp(applied[i] / 10.0, 0.0, max_kpa);
+  device_->plant.command_pressures_kpa(setpoints_kpa);
 }
 
 void DeviceEmulator::tick(std::uint32_t t, DeviceUart& uart) {

@@ -1,4 +1,4 @@
-#include "bridge/fault_relay.h"
+#include "bridge_apps/fault_relay.h"
 
 #include <optional>
 #include <stdexcept>

@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "bridge/clock.h"
-#include "bridge/device_emulator.h"
-#include "bridge/line_faults.h"
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/line_faults.h"
 #include "bridge/link.h"
 
 namespace softwrist::bridge {

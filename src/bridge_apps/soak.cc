@@ -1,4 +1,4 @@
-#include "bridge/soak.h"
+#include "bridge_apps/soak.h"
 
 #include <malloc.h>
 
@@ -13,9 +13,9 @@
 #include <fmt/format.h>
 
 #include "bridge/bridge_plant.h"
-#include "bridge/fault_relay.h"
-#include "bridge/hardware_trial.h"
-#include "bridge/lockstep_link.h"
+#include "bridge_apps/fault_relay.h"
+#include "bridge_apps/hardware_trial.h"
+#include "bridge_apps/lockstep_link.h"
 #include "experiments/runner.h"
 #include "experiments/trial_log.h"
 #include "io/json_reader.h"

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "bridge/line_faults.h"
+#include "bridge_apps/line_faults.h"
 #include "bridge/serial_port.h"
 
 namespace softwrist::bridge {

@@ -1,0 +1,54 @@
+#pragma once
+// The configuration of one softwrist.fpam actuator: its attributes' names, read from a plugin configuration
+// (FromConfig, in the style of MuJoCo's PidConfig::FromModel) and written as one (ToText, what sim/model_builder
+// puts into the generated MJCF). One type, so the names and their units are stated once and a written configuration
+// reads back to itself (tests/plugins/fpam_config_test.cc).
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "physics/exosuit_layout.h"
+#include "physics/muscle_law.h"
+#include "plugin_config.h"
+
+namespace softwrist::plugin {
+
+struct FpamConfig {
+  static constexpr std::string_view kPluginName = "softwrist.fpam";
+
+  // Attributes (units in the comment; SI except where the name says otherwise).
+  static constexpr std::string_view kRestLength = "rest_length";               // L0 [m], required
+  static constexpr std::string_view kRadius = "r0";                            // [m] constant fPAM, with eps_max
+  static constexpr std::string_view kMaxContraction = "eps_max";               //
+  static constexpr std::string_view kTablePressureKpa = "table_pressure_kpa";  // per-pressure fPAM: three lists
+  static constexpr std::string_view kTableRadius = "table_r0";                 // [m]
+  static constexpr std::string_view kTableMaxContraction = "table_eps_max";    //
+  static constexpr std::string_view kElasticModulus = "elastic_modulus";       // E [Pa], default 9.06e6
+  static constexpr std::string_view kThickness = "thickness";                  // t [m], default 0.08e-3
+  static constexpr std::string_view kElasticOnset = "epsilon0";                // default 0.153
+  static constexpr std::string_view kStretch = "stretch";                      // none | oneshot | selfconsistent
+  static constexpr std::string_view kForearmStiffness = "K1";                  // [N/m^2], |K1| used
+  static constexpr std::string_view kHandStiffness = "K2";                     // [N/m^2], |K2| used
+  static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";      // default 137
+  static constexpr std::string_view kTimeConstant = "time_constant";           // regulator [s], default 0.1
+  static constexpr std::array<std::string_view, 14> kAttributes = {
+      kRestLength,     kRadius,     kMaxContraction, kTablePressureKpa, kTableRadius,      kTableMaxContraction,
+      kElasticModulus, kThickness,  kElasticOnset,   kStretch,          kForearmStiffness, kHandStiffness,
+      kMaxPressureKpa, kTimeConstant};
+
+  physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
+  double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;
+  double time_constant = 0.1;  // [s]
+
+  // Reads and validates a configuration. On error returns nullopt and sets *error to "actuator 'NAME': attribute
+  // 'KEY': problem" (or "actuator 'NAME': problem" for one that concerns several attributes).
+  static std::optional<FpamConfig> FromConfig(const PluginConfig& config, std::string_view actuator_name,
+                                              std::string* error);
+  // "softwrist.fpam key=value ...": every attribute that applies (K1 and K2 only when the mounts stretch), in
+  // kAttributes' order, numbers to 10 significant digits.
+  std::string ToText() const;
+};
+
+}  // namespace softwrist::plugin

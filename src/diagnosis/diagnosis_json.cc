@@ -1,0 +1,62 @@
+#include "diagnosis/diagnosis.h"
+
+#include <nlohmann/json.hpp>
+
+// diagnosis.json (docs/diagnosis.md): the verdict, each effect's fit, the combination, the localisation and each
+// trial's gap.
+namespace softwrist::diagnosis {
+
+nlohmann::json to_json(const Diagnosis& d) {
+  const auto effect_json = [](const EffectFit& f) {
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [name, value] : f.params) params[name] = value;
+    return nlohmann::json{{"name", f.name},
+                          {"applicable", f.applicable},
+                          {"params", params},
+                          {"heldout_error_before", f.heldout_error_before},
+                          {"heldout_error_after", f.heldout_error_after},
+                          {"shrink_fraction", f.shrink_fraction},
+                          {"ci_low", f.ci_low},
+                          {"ci_high", f.ci_high},
+                          {"score", f.score},
+                          {"train_error_before", f.train_error_before},
+                          {"train_error_after", f.train_error_after},
+                          {"evaluations", f.evaluations}};
+  };
+  nlohmann::json j;
+  j["verdict"] = d.verdict;
+  j["reason"] = d.reason;
+  j["error_metric"] = kErrorMetric;
+  j["error_metric_description"] =
+      "per trial sqrt(max(0, mean((measured - model)/noise)^2 - 1)) over held-out measurements: the systematic "
+      "residual in units of the repeat-to-repeat noise; averaged over the trials of each kind, then over the kinds";
+  j["heldout_error_nominal"] = d.heldout_nominal;
+  j["heldout_error_corrected"] = d.heldout_corrected;
+  j["gap_error_nominal"] = d.gap_nominal;
+  j["gap_error_corrected"] = d.gap_corrected;
+  j["gap_closed"] = d.gap_closed();
+  j["remaining_gap_significant"] = d.remaining_gap_significant;
+  j["effects"] = nlohmann::json::array();
+  for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
+  j["combination"] = nlohmann::json::array();
+  for (const auto& f : d.combination) j["combination"].push_back(effect_json(f));
+  j["localization"] = nlohmann::json::array();
+  for (const auto& e : d.localization) {
+    nlohmann::json entry{{"experiment", e.experiment}, {"where", e.where},  {"residual", e.residual},
+                         {"noise", e.noise},           {"unit", e.unit},    {"p_value", e.p_value},
+                         {"significant", e.significant}, {"count", e.count}};
+    j["localization"].push_back(entry);
+  }
+  j["trials"] = nlohmann::json::array();
+  for (const auto& t : d.trials) {
+    j["trials"].push_back({{"experiment", t.experiment}, {"kind", to_string(t.kind)}, {"unit", t.unit},
+                           {"noise", t.noise}, {"noise_source", t.noise_source}, {"rms_nominal", t.rms_nominal},
+                           {"rms_corrected", t.rms_corrected}, {"p_value", t.p_value},
+                           {"significant", t.significant}, {"points", t.points}});
+  }
+  j["skipped"] = nlohmann::json::array();
+  for (const auto& p : d.problems) j["skipped"].push_back({{"file", p.file}, {"reason", p.reason}});
+  return j;
+}
+
+}  // namespace softwrist::diagnosis

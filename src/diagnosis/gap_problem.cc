@@ -1,0 +1,117 @@
+#include "diagnosis/gap_problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+namespace softwrist::diagnosis {
+
+Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only,
+                                 const EffectSpec* only_changed) const {
+  Predictions predictions(trials_.size());
+  for (std::size_t t = 0; t < trials_.size(); ++t) {
+    // A trial the effect does not act on keeps the base model's predictions (filled by the caller).
+    if (only_changed != nullptr && !only_changed->acts_on_kind(trials_[t].trial->kind)) continue;
+    predictions[t] = engine_.predict(trials_[t], variant, training_only);
+  }
+  return predictions;
+}
+
+double GapProblem::training_error(const Predictions& predictions) const {
+  return mean_over_kinds(nullptr, [&](std::size_t t) {
+    const PreparedTrial& trial = trials_[t];
+    double sum = 0.0;
+    int n = 0;
+    for (std::size_t i = 0; i < trial.points.size(); ++i) {
+      if (trial.points[i].heldout) continue;
+      sum += std::pow((trial.points[i].measured - predictions[t][i]) / trial.noise, 2);
+      ++n;
+    }
+    return n > 0 ? sum / n : 0.0;
+  });
+}
+
+UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
+  UnitSums sums;
+  for (std::size_t t = 0; t < trials_.size(); ++t) {
+    const PreparedTrial& trial = trials_[t];
+    int units = 0;
+    for (const auto& p : trial.points) units = std::max(units, p.unit + 1);
+    std::vector<std::pair<double, int>> per_unit(static_cast<std::size_t>(units));
+    for (std::size_t i = 0; i < trial.points.size(); ++i) {
+      if (!trial.points[i].heldout) continue;
+      auto& u = per_unit[static_cast<std::size_t>(trial.points[i].unit)];
+      u.first += std::pow((trial.points[i].measured - predictions[t][i]) / trial.noise, 2);
+      ++u.second;
+    }
+    sums.per_trial.push_back(std::move(per_unit));
+  }
+  return sums;
+}
+
+double GapProblem::heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights,
+                                 const std::vector<bool>* only) const {
+  return mean_over_kinds(only, [&](std::size_t t) {
+    double sum = 0.0;
+    double n = 0.0;
+    for (std::size_t u = 0; u < sums.per_trial[t].size(); ++u) {
+      const double w = weights ? (*weights)[t][u] : 1.0;
+      sum += w * sums.per_trial[t][u].first;
+      n += w * sums.per_trial[t][u].second;
+    }
+    return n > 0 ? std::sqrt(std::max(0.0, sum / n - 1.0)) : 0.0;
+  });
+}
+
+std::vector<std::vector<std::size_t>> GapProblem::heldout_units() const {
+  std::vector<std::vector<std::size_t>> units(trials_.size());
+  for (std::size_t t = 0; t < trials_.size(); ++t) {
+    std::set<std::size_t> seen;
+    for (const auto& p : trials_[t].points) {
+      if (p.heldout) seen.insert(static_cast<std::size_t>(p.unit));
+    }
+    units[t].assign(seen.begin(), seen.end());
+  }
+  return units;
+}
+
+double GapProblem::mean_over_kinds(const std::vector<bool>* only,
+                                   const std::function<double(std::size_t)>& per_trial) const {
+  std::map<TrialKind, std::pair<double, int>> by_kind;
+  for (std::size_t t = 0; t < trials_.size(); ++t) {
+    if (only != nullptr && !(*only)[t]) continue;
+    auto& k = by_kind[trials_[t].trial->kind];
+    k.first += per_trial(t);
+    ++k.second;
+  }
+  double total = 0.0;
+  for (const auto& [kind, k] : by_kind) total += k.first / k.second;
+  return by_kind.empty() ? 0.0 : total / static_cast<double>(by_kind.size());
+}
+
+std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
+                                             int resamples, std::uint64_t seed) {
+  const auto units = problem.heldout_units();
+  std::mt19937_64 rng(seed);
+  std::vector<double> shrinks;
+  std::vector<std::vector<int>> weights(problem.size());
+  for (int b = 0; b < resamples; ++b) {
+    for (std::size_t t = 0; t < problem.size(); ++t) {
+      weights[t].assign(before.per_trial[t].size(), 0);
+      if (units[t].empty()) continue;
+      std::uniform_int_distribution<std::size_t> pick(0, units[t].size() - 1);
+      for (std::size_t k = 0; k < units[t].size(); ++k) ++weights[t][units[t][pick(rng)]];
+    }
+    const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
+    // A resample without any gap (all its units where the model was already right) says nothing of the shrink.
+    if (e0 > 0.0) shrinks.push_back((e0 - e1) / e0);
+  }
+  if (shrinks.empty()) return {0.0, 0.0};
+  std::sort(shrinks.begin(), shrinks.end());
+  const auto at = [&](double q) { return shrinks[static_cast<std::size_t>(q * static_cast<double>(shrinks.size() - 1))]; };
+  return {at(0.025), at(0.975)};
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,60 @@
+#pragma once
+// The diagnosis's data as an estimation problem (diagnosis.h): the prepared trials, their predictions under a model
+// variant, and the errors the fits minimise (training part) and the verdict weighs (held-out part), in units of each
+// trial's noise and averaged over the trials of each kind, then over the kinds. Internal to src/diagnosis.
+
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "diagnosis/effects.h"
+#include "diagnosis/replay.h"
+
+namespace softwrist::diagnosis {
+
+// A failed replay or an unphysical parameter makes the objective this large, so the search turns away.
+inline constexpr double kInfeasible = 1e12;
+
+using Predictions = std::vector<std::vector<double>>;  // [trial][point]
+
+// Per trial and split unit: sum of (r/sigma)^2 and count, over held-out measurements.
+struct UnitSums {
+  std::vector<std::vector<std::pair<double, int>>> per_trial;  // [trial][unit]
+};
+
+class GapProblem {
+ public:
+  GapProblem(std::vector<PreparedTrial>& trials, ReplayEngine& engine) : trials_(trials), engine_(engine) {}
+
+  // The variant's predictions; with `only_changed`, a trial the effect does not act on is left empty (the caller
+  // fills in the base model's).
+  Predictions evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed = nullptr) const;
+
+  // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements.
+  double training_error(const Predictions& predictions) const;
+  UnitSums heldout_sums(const Predictions& predictions) const;
+  // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is); with
+  // `only`, over the trials it marks.
+  double heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr,
+                       const std::vector<bool>* only = nullptr) const;
+  // Units with held-out measurements, per trial, for the bootstrap.
+  std::vector<std::vector<std::size_t>> heldout_units() const;
+
+  std::size_t size() const { return trials_.size(); }
+  const std::vector<PreparedTrial>& trials() const { return trials_; }
+  ReplayEngine& engine() const { return engine_; }
+
+ private:
+  double mean_over_kinds(const std::vector<bool>* only, const std::function<double(std::size_t)>& per_trial) const;
+
+  std::vector<PreparedTrial>& trials_;
+  ReplayEngine& engine_;
+};
+
+// The bootstrap's 95 % interval of the shrink fraction, resampling each trial's held-out units with replacement;
+// both models see the same resample. Resamples with no gap left to shrink are left out.
+std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
+                                             int resamples, std::uint64_t seed);
+
+}  // namespace softwrist::diagnosis

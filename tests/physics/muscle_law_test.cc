@@ -1,0 +1,55 @@
+// The one length-to-force law of a muscle with its mounts (physics/muscle_law.h), which the plugin holds and
+// Muscle embeds.
+
+#include "physics/muscle_law.h"
+
+#include <gtest/gtest.h>
+
+#include "physics/errors.h"
+#include "physics/muscle_torque.h"
+#include "physics/paper_parameters.h"
+
+namespace softwrist::physics {
+namespace {
+
+// Table torque_measurement_parameters' flexor: the law at the path length is the muscle's force at that angle.
+TEST(MuscleLaw, IsTheMusclesForceAtItsPathLength) {
+  for (const StretchMode mode : {StretchMode::kNone, StretchMode::kOneShot, StretchMode::kSelfConsistent}) {
+    const Muscle muscle = paper::torque_measurement_flexor(mode);
+    for (const double angle : {-0.8, 0.0, 0.6}) {
+      for (const double pressure : paper::kMeasurementPressures) {
+        const MuscleState state = muscle_state(muscle, angle, pressure);
+        const StretchedForce law = stretched_force(muscle, state.path_length, pressure);
+        EXPECT_DOUBLE_EQ(law.force, state.force) << angle << " " << pressure;
+        EXPECT_DOUBLE_EQ(law.mount_stretch, state.mount_stretch);
+      }
+    }
+  }
+}
+
+// Eqn. fabric_stretching: the mounts' stretch shortens the muscle, so it pulls less than with rigid mounts.
+TEST(MuscleLaw, StretchingMountsPullLess) {
+  const Muscle stretching = paper::torque_measurement_flexor(StretchMode::kSelfConsistent);
+  MuscleLaw rigid = stretching;
+  rigid.stretch_mode = StretchMode::kNone;
+  const double length = 0.30;
+  EXPECT_LT(stretched_force(stretching, length, 137e3).force, stretched_force(rigid, length, 137e3).force);
+  EXPECT_GT(stretched_force(stretching, length, 137e3).mount_stretch, 0.0);
+}
+
+TEST(MuscleLaw, ValidationNamesTheRestLengthAndTheStiffness) {
+  MuscleLaw law{.fpam = paper::design_fpam(), .rest_length = 12.0};
+  EXPECT_THROW(validate(law), InvalidParameter);
+  law.rest_length = 0.3;
+  EXPECT_NO_THROW(validate(law));
+  law.stretch_mode = StretchMode::kOneShot;  // stiffness 0: no solution of F = K dx^2
+  try {
+    validate(law);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidParameter& e) {
+    EXPECT_NE(std::string(e.what()).find("K1"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace softwrist::physics

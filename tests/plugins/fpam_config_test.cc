@@ -1,0 +1,73 @@
+#include "fpam_config.h"
+
+#include <gtest/gtest.h>
+
+#include "physics/paper_parameters.h"
+
+namespace softwrist::plugin {
+namespace {
+
+std::optional<FpamConfig> read(const std::string& text, std::string* error) {
+  const auto config = PluginConfig::Parse(text, error);
+  if (!config) return std::nullopt;
+  return FpamConfig::FromConfig(*config, "flexor", error);
+}
+
+void expect_same(const FpamConfig& a, const FpamConfig& b) {
+  ASSERT_EQ(a.law.fpam.rows().size(), b.law.fpam.rows().size());
+  for (std::size_t i = 0; i < a.law.fpam.rows().size(); ++i) {
+    EXPECT_DOUBLE_EQ(a.law.fpam.rows()[i].pressure, b.law.fpam.rows()[i].pressure);
+    EXPECT_DOUBLE_EQ(a.law.fpam.rows()[i].radius, b.law.fpam.rows()[i].radius);
+    EXPECT_DOUBLE_EQ(a.law.fpam.rows()[i].max_contraction, b.law.fpam.rows()[i].max_contraction);
+  }
+  EXPECT_DOUBLE_EQ(a.law.fpam.fabric().elastic_modulus, b.law.fpam.fabric().elastic_modulus);
+  EXPECT_DOUBLE_EQ(a.law.fpam.fabric().thickness, b.law.fpam.fabric().thickness);
+  EXPECT_DOUBLE_EQ(a.law.fpam.fabric().elastic_onset_contraction, b.law.fpam.fabric().elastic_onset_contraction);
+  EXPECT_DOUBLE_EQ(a.law.rest_length, b.law.rest_length);
+  EXPECT_EQ(a.law.stretch_mode, b.law.stretch_mode);
+  if (a.law.stretch_mode != physics::StretchMode::kNone) {
+    EXPECT_DOUBLE_EQ(a.law.mount_stiffness.forearm, b.law.mount_stiffness.forearm);
+    EXPECT_DOUBLE_EQ(a.law.mount_stiffness.hand, b.law.mount_stiffness.hand);
+  }
+  EXPECT_DOUBLE_EQ(a.max_pressure_kpa, b.max_pressure_kpa);
+  EXPECT_DOUBLE_EQ(a.time_constant, b.time_constant);
+}
+
+// What the model builder writes reads back to the same configuration, for the paper's per-pressure fPAM with
+// stretching mounts (Table tensile_testing_parameters, Table torque_measurement_parameters) and for a constant one.
+TEST(FpamConfig, WrittenTextReadsBackToItself) {
+  const auto rig = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
+  const FpamConfig table{.law = rig, .max_pressure_kpa = 120.0, .time_constant = 0.07};
+  const FpamConfig constant{.law = {.fpam = physics::paper::design_fpam(), .rest_length = 0.29}};
+  for (const FpamConfig& written : {table, constant}) {
+    std::string error;
+    const auto back = read(written.ToText(), &error);
+    ASSERT_TRUE(back) << written.ToText() << ": " << error;
+    expect_same(written, *back);
+    EXPECT_EQ(back->ToText(), written.ToText());
+  }
+}
+
+TEST(FpamConfig, TextNamesEveryAttributeThatApplies) {
+  const FpamConfig constant{.law = {.fpam = physics::paper::design_fpam(), .rest_length = 0.29}};
+  const std::string text = constant.ToText();
+  EXPECT_EQ(text.rfind("softwrist.fpam rest_length=0.29 r0=0.0123 eps_max=0.28 ", 0), 0u) << text;
+  EXPECT_EQ(text.find("K1="), std::string::npos) << "no stiffness without stretching: " << text;
+  EXPECT_NE(text.find(" stretch=none "), std::string::npos) << text;
+  EXPECT_NE(text.find(" max_pressure_kpa=137 time_constant=0.1"), std::string::npos) << text;
+}
+
+// The physics core's rules for the law (L0 at most 10 m, a non-zero stiffness) reach the user named by actuator.
+TEST(FpamConfig, ThePhysicsCoresRulesNameTheActuator) {
+  std::string error;
+  EXPECT_FALSE(read("softwrist.fpam rest_length=12 r0=0.0123 eps_max=0.28", &error));
+  EXPECT_NE(error.find("actuator 'flexor': rest_length L0 [m] = 12: must be at most 10"), std::string::npos) << error;
+  EXPECT_FALSE(read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=0 K2=5", &error));
+  EXPECT_NE(error.find("actuator 'flexor': mount stiffness K1"), std::string::npos) << error;
+  EXPECT_FALSE(read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=3", &error));
+  EXPECT_NE(error.find("actuator 'flexor': attribute 'K2': must be given when the mounts stretch"), std::string::npos)
+      << error;
+}
+
+}  // namespace
+}  // namespace softwrist::plugin
