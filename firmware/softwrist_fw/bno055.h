@@ -16,9 +16,9 @@ class Bno055 {
   // Selects the NDOF fusion mode (register OPR_MODE 0x3D <- 0x0C; datasheet Table 3-5).
   bool begin() {
     if (read_register(0x00) != 0xA0) return false;  // CHIP_ID
-    write_register(0x3D, 0x00);                        // CONFIG mode first
+    write_register(0x3D, 0x00);                     // CONFIG mode first
     delay(25);
-    write_register(0x3D, 0x0C);                        // NDOF
+    write_register(0x3D, 0x0C);  // NDOF
     delay(20);
     ready_ = true;
     return true;

@@ -12,10 +12,10 @@
 #include <Wire.h>
 #include <avr/wdt.h>
 
+#include "bno055.h"
 #include "bridge/device_protocol.h"
 #include "bridge/safety_gate.h"
 #include "bridge/wire_format.h"
-#include "bno055.h"
 #include "wrist_angles.h"
 
 using softwrist::wire::Packet;
@@ -93,7 +93,8 @@ void loop() {
     if (valid) wrist_angles_cdeg(forearm, hand, &fe_cdeg, &ur_cdeg);
     gate.imu_reading(valid, now);
     int32_t measured[4];
-    for (int i = 0; i < 4; ++i) measured[i] = analogRead(kMonitorPins[i]) * static_cast<int32_t>(gate.limits().max_dkpa) / 1023;
+    for (int i = 0; i < 4; ++i)
+      measured[i] = analogRead(kMonitorPins[i]) * static_cast<int32_t>(gate.limits().max_dkpa) / 1023;
     send(protocol.data_packet(now, fe_cdeg, ur_cdeg, measured));
   }
   // Every pass (about every millisecond), so an emergency stop or a timeout vents within a millisecond of it.

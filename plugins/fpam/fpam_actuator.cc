@@ -9,7 +9,7 @@
 namespace softwrist::plugin {
 
 std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std::string_view actuator_name,
-                                                  std::string* error) {
+                                                 std::string* error) {
   auto read = FpamConfig::FromConfig(config, actuator_name, error);
   if (!read) return std::nullopt;
   return FpamActuator(std::move(*read));

@@ -23,8 +23,8 @@ class AttributeReader {
   bool ok() const { return ok_; }
   bool Fail(std::string_view key, const std::string& problem) {
     if (ok_) {
-      *error_ = "actuator '" + std::string(actuator_) + "': " +
-                (key.empty() ? std::string() : "attribute '" + std::string(key) + "': ") + problem;
+      *error_ = "actuator '" + std::string(actuator_) +
+                "': " + (key.empty() ? std::string() : "attribute '" + std::string(key) + "': ") + problem;
     }
     ok_ = false;
     return false;

@@ -34,9 +34,9 @@ struct FpamConfig {
   static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";      // default 137
   static constexpr std::string_view kTimeConstant = "time_constant";           // regulator [s], default 0.1
   static constexpr std::array<std::string_view, 14> kAttributes = {
-      kRestLength,     kRadius,     kMaxContraction, kTablePressureKpa, kTableRadius,      kTableMaxContraction,
-      kElasticModulus, kThickness,  kElasticOnset,   kStretch,          kForearmStiffness, kHandStiffness,
-      kMaxPressureKpa, kTimeConstant};
+      kRestLength,          kRadius,         kMaxContraction, kTablePressureKpa, kTableRadius,
+      kTableMaxContraction, kElasticModulus, kThickness,      kElasticOnset,     kStretch,
+      kForearmStiffness,    kHandStiffness,  kMaxPressureKpa, kTimeConstant};
 
   physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
   double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;

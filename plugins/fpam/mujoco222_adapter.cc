@@ -63,8 +63,7 @@ const FpamActuator* Find(const mjModel* m, int id) {
   if (cache.model != m || cache.generation != generation) {
     std::shared_lock lock(RegistryMutex());
     const auto found = Registry().find(m);
-    cache = {m, Generation().load(std::memory_order_relaxed),
-             found == Registry().end() ? nullptr : found->second};
+    cache = {m, Generation().load(std::memory_order_relaxed), found == Registry().end() ? nullptr : found->second};
   }
   if (cache.instances == nullptr) return nullptr;
   const auto& instance = (*cache.instances)[static_cast<std::size_t>(id)];
@@ -135,8 +134,7 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
     if (config->plugin_name() != FpamActuator::kPluginName) continue;
     if (m->actuator_dyntype[id] != mjDYN_USER || m->actuator_gaintype[id] != mjGAIN_USER ||
         m->actuator_biastype[id] != mjBIAS_USER) {
-      CopyError("actuator '" + actuator_name(m, id) +
-                    "': softwrist.fpam needs dyntype, gaintype and biastype 'user'",
+      CopyError("actuator '" + actuator_name(m, id) + "': softwrist.fpam needs dyntype, gaintype and biastype 'user'",
                 error, error_size);
       return -1;
     }

@@ -79,8 +79,8 @@ void BridgePlant::send(char type, const int32_t* fields, int count) {
   } catch (const std::runtime_error& e) {
     link_lost_ = true;
     session_ = false;
-    throw BridgeFault(fmt::format("link lost: {}; the device's watchdog vents within {} ms", e.what(),
-                                  gate_.limits().timeout_ms));
+    throw BridgeFault(
+        fmt::format("link lost: {}; the device's watchdog vents within {} ms", e.what(), gate_.limits().timeout_ms));
   }
 }
 
@@ -117,11 +117,21 @@ void BridgePlant::pump(int timeout_ms) {
 
 void BridgePlant::handle_line(const char* line, std::size_t length) {
   switch (protocol_.handle_line(line, length)) {
-    case DeviceLine::kGarbled: ++stats_.garbled_from_device; break;
-    case DeviceLine::kOutOfSequence: ++stats_.out_of_sequence; break;
-    case DeviceLine::kRejection: ++stats_.rejected_by_device; break;
-    case DeviceLine::kAnswer: answered_ = true; break;
-    case DeviceLine::kData: handle_data(protocol_.data()); break;
+    case DeviceLine::kGarbled:
+      ++stats_.garbled_from_device;
+      break;
+    case DeviceLine::kOutOfSequence:
+      ++stats_.out_of_sequence;
+      break;
+    case DeviceLine::kRejection:
+      ++stats_.rejected_by_device;
+      break;
+    case DeviceLine::kAnswer:
+      answered_ = true;
+      break;
+    case DeviceLine::kData:
+      handle_data(protocol_.data());
+      break;
   }
 }
 
@@ -133,7 +143,8 @@ void BridgePlant::handle_data(const DeviceData& data) {
   data_ = data;
   ++stats_.data_received;
   gate_.imu_reading(!(data.flags & wire::kImuFault), now);
-  if (session_ && (data.flags & kSessionFaults)) fault(fmt::format("the device reports {}", describe_flags(data.flags)));
+  if (session_ && (data.flags & kSessionFaults))
+    fault(fmt::format("the device reports {}", describe_flags(data.flags)));
 }
 
 DeviceInfo BridgePlant::start_session() {
@@ -144,9 +155,10 @@ DeviceInfo BridgePlant::start_session() {
   while (!answered_) {
     const double now = time_s();
     if (now >= deadline) {
-      throw BridgeFault(fmt::format("{}: no answer to hello within {} s (is the softwrist firmware or emulator "
-                                    "on the other end, at 115200 baud?)",
-                                    link_->name(), options_.handshake_timeout_s));
+      throw BridgeFault(
+          fmt::format("{}: no answer to hello within {} s (is the softwrist firmware or emulator "
+                      "on the other end, at 115200 baud?)",
+                      link_->name(), options_.handshake_timeout_s));
     }
     if (now >= next_hello) {
       const int32_t version = wire::kProtocolVersion;
@@ -157,8 +169,8 @@ DeviceInfo BridgePlant::start_session() {
   }
   const DeviceInfo& device = protocol_.device();
   if (device.version != wire::kProtocolVersion) {
-    throw BridgeFault(fmt::format("{}: the device speaks protocol version {}, this softwrist version {}",
-                                  link_->name(), device.version, wire::kProtocolVersion));
+    throw BridgeFault(fmt::format("{}: the device speaks protocol version {}, this softwrist version {}", link_->name(),
+                                  device.version, wire::kProtocolVersion));
   }
   if (device.limits.max_dkpa <= 0 || device.limits.rate_dkpa_s <= 0 || device.limits.timeout_ms == 0) {
     fault("the device announced limits that are not positive");
@@ -185,9 +197,10 @@ void BridgePlant::check_data_fresh() {
   if (!session_) return;
   const uint32_t age = now_ms() - data_ms_;
   if (age > gate_.limits().timeout_ms) {
-    fault(fmt::format("no valid data from the device for {} ms (timeout {} ms): the link cut, the device stalled "
-                      "or garbage on the line",
-                      age, gate_.limits().timeout_ms));
+    fault(
+        fmt::format("no valid data from the device for {} ms (timeout {} ms): the link cut, the device stalled "
+                    "or garbage on the line",
+                    age, gate_.limits().timeout_ms));
   }
 }
 

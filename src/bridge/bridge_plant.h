@@ -43,12 +43,12 @@ struct BridgeOptions {
 
 struct BridgeStats {
   long commands_sent = 0;
-  long data_received = 0;         // valid D packets
-  long rejected_by_device = 0;    // R packets: commands the device refused
-  long garbled_from_device = 0;   // lines failing the checksum, type, field count or number checks
-  long out_of_sequence = 0;       // repeated or stale packets from the device
-  long overlong_lines = 0;        // dropped whole
-  double max_data_gap_s = 0.0;    // longest time between two valid data packets within a session
+  long data_received = 0;        // valid D packets
+  long rejected_by_device = 0;   // R packets: commands the device refused
+  long garbled_from_device = 0;  // lines failing the checksum, type, field count or number checks
+  long out_of_sequence = 0;      // repeated or stale packets from the device
+  long overlong_lines = 0;       // dropped whole
+  double max_data_gap_s = 0.0;   // longest time between two valid data packets within a session
 };
 
 class BridgePlant final : public control::Plant {

@@ -16,8 +16,9 @@ class DeviceProtocol {
  public:
   explicit DeviceProtocol(SafetyGate* gate) : gate_(gate), host_seq_(0), device_seq_(0), host_seq_seen_(false) {}
 
-  // Handles one line from the host at `now_ms`. Returns the type of the packet acted on (kHelloPacket, kSetPacket or kStopPacket), or 0
-  // when the line was rejected. Writes the answer to send into `reply` (V for a hello, R for a rejection) and sets
+  // Handles one line from the host at `now_ms`. Returns the type of the packet acted on (kHelloPacket, kSetPacket or
+  // kStopPacket), or 0 when the line was rejected. Writes the answer to send into `reply` (V for a hello, R for a
+  // rejection) and sets
   // `*has_reply`.
   char handle_line(const char* line, size_t length, uint32_t now_ms, Packet* reply, bool* has_reply) {
     *has_reply = true;

@@ -22,9 +22,9 @@ struct DeviceInfo {
 // A valid D packet's fields.
 struct DeviceData {
   std::int32_t t_ms = 0;
-  std::int32_t fe_cdeg = 0, ur_cdeg = 0;    // IMU wrist angles [0.01 deg]
-  std::int32_t measured_dkpa[4] = {};       // the regulators' measured pressures [0.1 kPa]
-  std::int32_t flags = wire::kNoSession;    // wire::StatusFlag
+  std::int32_t fe_cdeg = 0, ur_cdeg = 0;  // IMU wrist angles [0.01 deg]
+  std::int32_t measured_dkpa[4] = {};     // the regulators' measured pressures [0.1 kPa]
+  std::int32_t flags = wire::kNoSession;  // wire::StatusFlag
 };
 
 enum class DeviceLine {
@@ -39,12 +39,14 @@ class HostProtocol {
  public:
   DeviceLine handle_line(const char* line, std::size_t length) {
     wire::Packet p;
-    if (wire::parse_line(line, length, &p) != wire::kOk || (p.type != wire::kHelloReplyPacket && p.type != wire::kDataPacket && p.type != wire::kRejectPacket)) {
+    if (wire::parse_line(line, length, &p) != wire::kOk ||
+        (p.type != wire::kHelloReplyPacket && p.type != wire::kDataPacket && p.type != wire::kRejectPacket)) {
       return DeviceLine::kGarbled;
     }
     if (p.type == wire::kDataPacket && !plausible_data(p)) return DeviceLine::kGarbled;
     // A V packet answers our hello and may come from a device that restarted its count; anything else must be newer.
-    if (p.type != wire::kHelloReplyPacket && seq_seen_ && !wire::is_newer(p.seq, seq_)) return DeviceLine::kOutOfSequence;
+    if (p.type != wire::kHelloReplyPacket && seq_seen_ && !wire::is_newer(p.seq, seq_))
+      return DeviceLine::kOutOfSequence;
     seq_ = p.seq;
     seq_seen_ = true;
     if (p.type == wire::kRejectPacket) return DeviceLine::kRejection;
@@ -68,8 +70,8 @@ class HostProtocol {
 
   // Angles within +-180 deg, pressures within -10..10000 kPa (a sensor's offset below 0 allowed), known flags.
   static bool plausible_data(const wire::Packet& p) {
-    bool plausible = p.fields[7] >= 0 && p.fields[7] < 64 && std::abs(p.fields[1]) <= 18000 &&
-                     std::abs(p.fields[2]) <= 18000;
+    bool plausible =
+        p.fields[7] >= 0 && p.fields[7] < 64 && std::abs(p.fields[1]) <= 18000 && std::abs(p.fields[2]) <= 18000;
     for (int i = 3; i < 7; ++i) plausible = plausible && p.fields[i] >= -100 && p.fields[i] <= 100000;
     return plausible;
   }

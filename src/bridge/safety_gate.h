@@ -16,9 +16,9 @@ namespace softwrist {
 namespace wire {
 
 struct SafetyLimits {
-  int32_t max_dkpa = 1370;       // the QB3 regulators' 137 kPa (Section Exosuit Prototype)
-  int32_t rate_dkpa_s = 13700;   // full range in 0.1 s: no faster than the regulators follow anyway (assumed lag)
-  uint32_t timeout_ms = 40;      // ~3 control periods of 14 ms, 4 IMU samples at 100 Hz; vents well within 50 ms
+  int32_t max_dkpa = 1370;      // the QB3 regulators' 137 kPa (Section Exosuit Prototype)
+  int32_t rate_dkpa_s = 13700;  // full range in 0.1 s: no faster than the regulators follow anyway (assumed lag)
+  uint32_t timeout_ms = 40;     // ~3 control periods of 14 ms, 4 IMU samples at 100 Hz; vents well within 50 ms
 };
 
 class SafetyGate {

@@ -22,11 +22,16 @@ namespace {
 
 speed_t speed_of(int baud, const std::string& name) {
   switch (baud) {
-    case 9600: return B9600;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    case 230400: return B230400;
-    default: throw std::runtime_error(fmt::format("{}: unsupported baud rate {}", name, baud));
+    case 9600:
+      return B9600;
+    case 57600:
+      return B57600;
+    case 115200:
+      return B115200;
+    case 230400:
+      return B230400;
+    default:
+      throw std::runtime_error(fmt::format("{}: unsupported baud rate {}", name, baud));
   }
 }
 
@@ -54,15 +59,14 @@ SerialPort SerialPort::Open(const std::filesystem::path& device, int baud) {
   return port;
 }
 
-SerialPort::SerialPort(int fd, std::string name) : fd_(fd), name_(std::move(name)) {
-  make_raw(fd_, B115200, name_);
-}
+SerialPort::SerialPort(int fd, std::string name) : fd_(fd), name_(std::move(name)) { make_raw(fd_, B115200, name_); }
 
 SerialPort::~SerialPort() {
   if (fd_ >= 0) close(fd_);
 }
 
-SerialPort::SerialPort(SerialPort&& other) noexcept : fd_(std::exchange(other.fd_, -1)), name_(std::move(other.name_)) {}
+SerialPort::SerialPort(SerialPort&& other) noexcept
+    : fd_(std::exchange(other.fd_, -1)), name_(std::move(other.name_)) {}
 
 SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
   if (this != &other) {
@@ -81,8 +85,8 @@ void SerialPort::write_all(const char* data, std::size_t size) {
     const std::size_t n = write_some(data, size);
     if (n == 0) {
       if (waited_ms >= kWriteTimeoutMs) {
-        throw std::runtime_error(fmt::format("{}: write timed out after {} ms (the other side is not reading)",
-                                             name_, kWriteTimeoutMs));
+        throw std::runtime_error(
+            fmt::format("{}: write timed out after {} ms (the other side is not reading)", name_, kWriteTimeoutMs));
       }
       pollfd p{fd_, POLLOUT, 0};
       poll(&p, 1, 10);

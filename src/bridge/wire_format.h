@@ -29,17 +29,17 @@ const char kStopPacket = 'E';        // host to device: emergency stop
 const char kHelloReplyPacket = 'V';  // device to host
 const char kDataPacket = 'D';        // device to host
 const char kRejectPacket = 'R';      // device to host
-const size_t kMaxLine = 96;  // longer lines are garbage
+const size_t kMaxLine = 96;          // longer lines are garbage
 const int kMaxFields = 9;
 
 // Device status flags in a D packet.
 enum StatusFlag : int32_t {
-  kVented = 1,          // all regulators at 0 (vented) and the supply valve closed
-  kEmergencyStop = 2,   // latched by an E packet until the next hello
-  kWatchdog = 4,        // the watchdog vented (no valid S packet or IMU reading within the timeout); latched
-  kImuFault = 8,        // the IMUs gave no valid reading within the timeout (the device vents too)
-  kLimited = 16,        // the last command was clamped to the pressure limit or slowed by the rate limit
-  kNoSession = 32,      // no hello yet
+  kVented = 1,         // all regulators at 0 (vented) and the supply valve closed
+  kEmergencyStop = 2,  // latched by an E packet until the next hello
+  kWatchdog = 4,       // the watchdog vented (no valid S packet or IMU reading within the timeout); latched
+  kImuFault = 8,       // the IMUs gave no valid reading within the timeout (the device vents too)
+  kLimited = 16,       // the last command was clamped to the pressure limit or slowed by the rate limit
+  kNoSession = 32,     // no hello yet
 };
 
 enum ParseError : uint8_t {
@@ -64,13 +64,20 @@ struct Packet {
 // The number of fields after SEQ for each type, or -1 for an unknown type.
 inline int field_count(char type) {
   switch (type) {
-    case kHelloPacket: return 1;
-    case kSetPacket: return 4;
-    case kStopPacket: return 0;
-    case kHelloReplyPacket: return 4;
-    case kDataPacket: return 8;
-    case kRejectPacket: return 1;
-    default: return -1;
+    case kHelloPacket:
+      return 1;
+    case kSetPacket:
+      return 4;
+    case kStopPacket:
+      return 0;
+    case kHelloReplyPacket:
+      return 4;
+    case kDataPacket:
+      return 8;
+    case kRejectPacket:
+      return 1;
+    default:
+      return -1;
   }
 }
 

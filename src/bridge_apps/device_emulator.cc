@@ -368,7 +368,8 @@ void DeviceEmulator::serve_device(SerialPort link, const std::atomic<bool>& stop
     stats_.epoch = epoch;
   }
   const auto now_ms = [&] {
-    return static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - epoch).count());
+    return static_cast<std::uint32_t>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - epoch).count());
   };
   PseudoTerminalUart uart(std::move(link));
   std::uint32_t next_tick = 0;

@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "bridge/safety_gate.h"
-#include "bridge/wire_format.h"
 #include "bridge/serial_port.h"
+#include "bridge/wire_format.h"
 #include "physics/mount_stretch.h"
 
 namespace softwrist::bridge {
@@ -38,18 +38,18 @@ inline constexpr const char* kEmulatorFormat = "softwrist.emulator/1";
 
 struct EmulatorEffects {
   std::optional<physics::MountStiffness> mount_stiffness;  // [N/m^2]; replaces the placement file's
-  std::optional<double> regulator_time_constant_s;          // replaces the placement file's
+  std::optional<double> regulator_time_constant_s;         // replaces the placement file's
   double regulator_dead_time_s = 0.0;
   double imu_noise_std_deg = 0.0;
   double imu_bias_fe_deg = 0.0, imu_bias_ur_deg = 0.0;
   double imu_latency_s = 0.0;
 };
 
-struct EmulatorFaults {  // seconds after the first hello; negative: never
+struct EmulatorFaults {          // seconds after the first hello; negative: never
   double imu_stale_at_s = -1.0;  // the IMUs stop giving valid readings (a BNO055 that stops answering on I2C)
   double garbage_at_s = -1.0;    // random bytes towards the host
   int garbage_bytes = 300;
-  double link_cut_at_s = -1.0;   // the link closes (a USB cable pulled); the device keeps running
+  double link_cut_at_s = -1.0;  // the link closes (a USB cable pulled); the device keeps running
 };
 
 struct EmulatorConfig {
@@ -67,23 +67,23 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path);
 
 // A moment the device vented (all regulator setpoints to 0, supply valve closed).
 struct VentEvent {
-  std::uint32_t t_ms = 0;          // device clock: ms since the device started
-  std::string cause;               // "emergency stop", "zero command", "watchdog: no command", "watchdog: no IMU"
-  std::uint32_t cause_ms = 0;      // when the cause began: the packet's arrival, or the last valid command or IMU
-                                   // reading before the timeout
+  std::uint32_t t_ms = 0;      // device clock: ms since the device started
+  std::string cause;           // "emergency stop", "zero command", "watchdog: no command", "watchdog: no IMU"
+  std::uint32_t cause_ms = 0;  // when the cause began: the packet's arrival, or the last valid command or IMU
+                               // reading before the timeout
 };
 
 struct EmulatorStats {
   long packets_accepted = 0;
   long packets_rejected = 0;  // each answered with an R packet
   long data_sent = 0;
-  long bytes_dropped = 0;     // did not fit the link's buffer (no host reading)
+  long bytes_dropped = 0;  // did not fit the link's buffer (no host reading)
   long sessions = 0;
-  int32_t max_output_dkpa = 0;        // the highest setpoint the regulators were ever given
-  std::uint32_t max_loop_lag_ms = 0;  // how far serve()'s loop fell behind real time (a loaded machine)
+  int32_t max_output_dkpa = 0;                     // the highest setpoint the regulators were ever given
+  std::uint32_t max_loop_lag_ms = 0;               // how far serve()'s loop fell behind real time (a loaded machine)
   std::uint32_t fault_injected_ms[3] = {0, 0, 0};  // imu stale, garbage, link cut; 0: not injected
   std::vector<VentEvent> vents;
-  bool vented = true;  // now: every regulator setpoint 0
+  bool vented = true;                           // now: every regulator setpoint 0
   std::chrono::steady_clock::time_point epoch;  // serve()'s start: the device clock's zero (real time only)
   std::string stopped_by;  // why serve() stopped before it was asked to (the simulation failed); empty otherwise
 };
@@ -125,7 +125,9 @@ class DeviceEmulator {
   // serve() stopped on its own (stats().stopped_by says why).
   bool failed() const { return failed_.load(); }
   // Called as each packet from the host is accepted (for the latency benchmark). Set before the device runs.
-  void set_packet_observer(std::function<void(char type, std::uint16_t seq)> observer) { observer_ = std::move(observer); }
+  void set_packet_observer(std::function<void(char type, std::uint16_t seq)> observer) {
+    observer_ = std::move(observer);
+  }
 
  private:
   struct Device;

@@ -11,8 +11,8 @@
 #include <thread>
 #include <vector>
 
-#include "bridge_apps/line_faults.h"
 #include "bridge/serial_port.h"
+#include "bridge_apps/line_faults.h"
 
 namespace softwrist::bridge {
 

@@ -25,15 +25,16 @@ std::vector<experiments::Column> hardware_columns() {
     columns.push_back({fmt::format("p_{}_kpa", muscle), "kPa",
                        fmt::format("measured pressure, {} (the regulator's monitor output)", muscle)});
   }
-  columns.push_back({"device_flags", "", "device status bits: 1 vented, 2 emergency stop, 4 watchdog, 8 IMU fault, "
-                                         "16 limited, 32 no session (docs/bridge-protocol.md)"});
+  columns.push_back({"device_flags", "",
+                     "device status bits: 1 vented, 2 emergency stop, 4 watchdog, 8 IMU fault, "
+                     "16 limited, 32 no session (docs/bridge-protocol.md)"});
   return columns;
 }
 
 nlohmann::json stats_json(const BridgeStats& s) {
-  return {{"commands_sent", s.commands_sent},         {"data_received", s.data_received},
+  return {{"commands_sent", s.commands_sent},           {"data_received", s.data_received},
           {"rejected_by_device", s.rejected_by_device}, {"garbled_from_device", s.garbled_from_device},
-          {"out_of_sequence", s.out_of_sequence},     {"overlong_lines", s.overlong_lines},
+          {"out_of_sequence", s.out_of_sequence},       {"overlong_lines", s.overlong_lines},
           {"max_data_gap_s", s.max_data_gap_s}};
 }
 
@@ -42,17 +43,16 @@ nlohmann::json stats_json(const BridgeStats& s) {
 void write_bridge_record(const std::filesystem::path& out, const BridgePlant& plant, const nlohmann::json& runs,
                          const std::optional<std::string>& fault) {
   const DeviceInfo& d = plant.device();
-  const nlohmann::json record = {
-      {"link", plant.link_name()},
-      {"device",
-       {{"protocol_version", d.version},
-        {"max_kpa", d.limits.max_dkpa / 10.0},
-        {"rate_kpa_s", d.limits.rate_dkpa_s / 10.0},
-        {"timeout_ms", d.limits.timeout_ms}}},
-      {"stats", stats_json(plant.stats())},
-      {"runs", runs},
-      {"fault", fault ? nlohmann::json(*fault) : nlohmann::json(nullptr)},
-      {"last_device_flags", plant.device_flags()}};
+  const nlohmann::json record = {{"link", plant.link_name()},
+                                 {"device",
+                                  {{"protocol_version", d.version},
+                                   {"max_kpa", d.limits.max_dkpa / 10.0},
+                                   {"rate_kpa_s", d.limits.rate_dkpa_s / 10.0},
+                                   {"timeout_ms", d.limits.timeout_ms}}},
+                                 {"stats", stats_json(plant.stats())},
+                                 {"runs", runs},
+                                 {"fault", fault ? nlohmann::json(*fault) : nlohmann::json(nullptr)},
+                                 {"last_device_flags", plant.device_flags()}};
   const std::filesystem::path tmp = out / "bridge.json.tmp";
   {
     std::ofstream file(tmp);
@@ -87,8 +87,8 @@ std::vector<int> choose_controllers(const std::vector<std::unique_ptr<control::C
       if (controllers[i]->name() == name) found = static_cast<int>(i);
     }
     if (found < 0) {
-      throw std::runtime_error(fmt::format("{}: no controller '{}' (it has: {})", source, name,
-                                           fmt::join(known, ", ")));
+      throw std::runtime_error(
+          fmt::format("{}: no controller '{}' (it has: {})", source, name, fmt::join(known, ", ")));
     }
     chosen.push_back(found);
   }
@@ -101,9 +101,11 @@ void check_trial_options(const TrialOptions& options, int repetitions) {
   if (!(rest_s >= 0.0)) throw std::runtime_error("the rest before each run must be >= 0 s");
   if (std::filesystem::exists(options.out / (std::string(experiments::kTrialLogName) + ".csv")) && !options.overwrite) {
     // A hardware trial is not resumed: the subject, the device and the session of the lost runs are gone.
-    throw std::runtime_error(fmt::format("{} holds a trial log already (bridge.json says how its runs ended); a trial "
-                                         "is not resumed but run again: choose another --out, or replace it with "
-                                         "--overwrite", options.out.string()));
+    throw std::runtime_error(
+        fmt::format("{} holds a trial log already (bridge.json says how its runs ended); a trial "
+                    "is not resumed but run again: choose another --out, or replace it with "
+                    "--overwrite",
+                    options.out.string()));
   }
 }
 
@@ -150,7 +152,10 @@ void run_repetition(const TrialContext& trial, control::Controller& controller, 
     control::run_tracking(plant, controller, trial.tracking.trajectory(), trial.loop, write_sample);
     plant.end_session();
     ++result.runs_completed;
-    runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
+    runs.push_back({{"case", case_index},
+                    {"controller", controller.name()},
+                    {"repetition", r},
+                    {"rows", rows},
                     {"completed", true}});
   } catch (const std::exception& e) {
     // BridgeFault has vented already; the rest (a controller fault, an interrupt) vent here.
@@ -158,10 +163,14 @@ void run_repetition(const TrialContext& trial, control::Controller& controller, 
       if (plant.in_session()) plant.end_session();
     } catch (const BridgeFault&) {
     }
-    result.fault = fmt::format("{} repetition {} (case {}), after {} rows: {}", controller.name(), r, case_index,
-                               rows, e.what());
-    runs.push_back({{"case", case_index}, {"controller", controller.name()}, {"repetition", r}, {"rows", rows},
-                    {"completed", false}, {"fault", e.what()}});
+    result.fault =
+        fmt::format("{} repetition {} (case {}), after {} rows: {}", controller.name(), r, case_index, rows, e.what());
+    runs.push_back({{"case", case_index},
+                    {"controller", controller.name()},
+                    {"repetition", r},
+                    {"rows", rows},
+                    {"completed", false},
+                    {"fault", e.what()}});
   }
 }
 

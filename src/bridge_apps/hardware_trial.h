@@ -6,11 +6,12 @@
 // columns. The true joint angles exist only in simulation, so they are absent.
 //
 // Each run (a controller and a repetition, numbered as the simulated experiment's cases) is its own session: the
-// device starts vented, the muscles vent for `rest_s` while the subject holds the wrist at neutral, the loop zeroes the angles there
-// (Sections Planar angle tracking and Spatial trajectory tracking), the loop runs, and the session ends with an emergency stop (vented). A controller command outside the
-// regulator range stops the trial (TrackingOptions::OutOfRange::kStop). A fault (BridgeFault, ControllerFault or
-// an interrupt) vents, ends the trial, and is recorded in bridge.json beside the log: nothing measured before it
-// is lost, and the summary covers the runs that finished.
+// device starts vented, the muscles vent for `rest_s` while the subject holds the wrist at neutral, the loop zeroes the
+// angles there (Sections Planar angle tracking and Spatial trajectory tracking), the loop runs, and the session ends
+// with an emergency stop (vented). A controller command outside the regulator range stops the trial
+// (TrackingOptions::OutOfRange::kStop). A fault (BridgeFault, ControllerFault or an interrupt) vents, ends the trial,
+// and is recorded in bridge.json beside the log: nothing measured before it is lost, and the summary covers the runs
+// that finished.
 
 #include <atomic>
 #include <filesystem>
@@ -28,10 +29,10 @@ namespace softwrist::bridge {
 
 struct TrialOptions {
   std::filesystem::path out;
-  std::vector<std::string> controllers;  // by name; empty: every controller of the config
-  std::optional<int> repetitions;        // default: the config's
-  double rest_s = 1.0;                   // vented before each run [s]: the regulators empty
-  bool overwrite = false;                // a directory holding a trial log is refused unless set
+  std::vector<std::string> controllers;          // by name; empty: every controller of the config
+  std::optional<int> repetitions;                // default: the config's
+  double rest_s = 1.0;                           // vented before each run [s]: the regulators empty
+  bool overwrite = false;                        // a directory holding a trial log is refused unless set
   const std::atomic<bool>* interrupt = nullptr;  // set (by SIGINT) to stop, vented, after the current iteration
   std::ostream* progress = nullptr;
 };

@@ -6,10 +6,14 @@ namespace softwrist::bridge {
 
 const char* link_fault_name(LinkFault fault) {
   switch (fault) {
-    case LinkFault::kLinkCut: return "link_cut";
-    case LinkFault::kGarbageToHost: return "garbage_to_host";
-    case LinkFault::kGarbageToDevice: return "garbage_to_device";
-    case LinkFault::kStall: return "stall";
+    case LinkFault::kLinkCut:
+      return "link_cut";
+    case LinkFault::kGarbageToHost:
+      return "garbage_to_host";
+    case LinkFault::kGarbageToDevice:
+      return "garbage_to_device";
+    case LinkFault::kStall:
+      return "stall";
   }
   return "?";
 }
@@ -26,7 +30,9 @@ LineFaults::LineFaults(LineFaultOptions options) : options_(options), rng_(optio
 
 LineFaults::Change LineFaults::advance(double now_s) {
   if (!active_ && now_s >= next_onset_s_) {
-    active_ = InjectedFault{.kind = static_cast<LinkFault>(rng_() % 4), .onset_s = now_s, .duration_s = duration_(rng_),
+    active_ = InjectedFault{.kind = static_cast<LinkFault>(rng_() % 4),
+                            .onset_s = now_s,
+                            .duration_s = duration_(rng_),
                             .device_vented_at_onset = device_vented_};
     faults_.push_back(*active_);
     return Change::kOnset;

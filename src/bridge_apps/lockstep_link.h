@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "bridge/clock.h"
+#include "bridge/link.h"
 #include "bridge_apps/device_emulator.h"
 #include "bridge_apps/line_faults.h"
-#include "bridge/link.h"
 
 namespace softwrist::bridge {
 

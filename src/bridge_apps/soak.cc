@@ -6,8 +6,8 @@
 #include <atomic>
 #include <fstream>
 #include <functional>
-#include <memory>
 #include <map>
+#include <memory>
 #include <thread>
 
 #include <fmt/format.h>
@@ -77,8 +77,8 @@ void run_trials(const experiments::ExperimentConfig& config, const SoakOptions& 
         wait();
         continue;
       }
-      const TrialResult r = run_trial(config, *plant,
-                                      {.out = trial.dir, .repetitions = 1000000, .overwrite = true, .interrupt = &stop});
+      const TrialResult r =
+          run_trial(config, *plant, {.out = trial.dir, .repetitions = 1000000, .overwrite = true, .interrupt = &stop});
       trial.runs_completed = r.runs_completed;
       trial.fault = r.fault.value_or("");
     } catch (const std::runtime_error& e) {  // the link went while opening it
@@ -87,8 +87,9 @@ void run_trials(const experiments::ExperimentConfig& config, const SoakOptions& 
     }
     trial.problem = check_trial_log(trial.dir, &trial.rows);
     if (options.progress) {
-      *options.progress << fmt::format("{:7.1f} s  {}: {} rows, ended by: {}\n", elapsed(), trial.dir.filename().string(),
-                                       trial.rows, trial.fault.empty() ? "the end of the soak" : trial.fault)
+      *options.progress << fmt::format("{:7.1f} s  {}: {} rows, ended by: {}\n", elapsed(),
+                                       trial.dir.filename().string(), trial.rows,
+                                       trial.fault.empty() ? "the end of the soak" : trial.fault)
                         << std::flush;
     }
     trials.push_back(std::move(trial));
@@ -133,12 +134,14 @@ void soak_in_real_time(const experiments::ExperimentConfig& config, const Emulat
       const std::string path = relay.host_path();
       return path.empty() ? nullptr : std::make_unique<BridgePlant>(SerialPort::Open(path));
     };
-    run_trials(config, options, deadline, open, [] { std::this_thread::sleep_for(std::chrono::milliseconds(10)); },
-               elapsed, result.trials);
+    run_trials(
+        config, options, deadline, open, [] { std::this_thread::sleep_for(std::chrono::milliseconds(10)); }, elapsed,
+        result.trials);
     // Faults of the last moments are still judged: the relay keeps running until the device had time to vent.
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     const double relay_zero_s = seconds_between(start, relay.started());
-    for (const InjectedFault& f : relay.faults()) result.faults.push_back({.fault = f, .onset_s = relay_zero_s + f.onset_s});
+    for (const InjectedFault& f : relay.faults())
+      result.faults.push_back({.fault = f, .onset_s = relay_zero_s + f.onset_s});
   } catch (...) {
     join();
     throw;
@@ -168,7 +171,8 @@ void soak_in_simulated_time(const experiments::ExperimentConfig& config, const E
   const auto open = [&]() -> std::unique_ptr<BridgePlant> {
     return rig.cable_in() ? std::make_unique<BridgePlant>(rig.open_host(), rig) : nullptr;
   };
-  run_trials(config, options, deadline, open, [&] { rig.run_for_ms(10); }, [&] { return rig.now_s(); }, result.trials);
+  run_trials(
+      config, options, deadline, open, [&] { rig.run_for_ms(10); }, [&] { return rig.now_s(); }, result.trials);
   rig.run_for_ms(200);  // the device has time to vent after the faults of the last moments
   for (const InjectedFault& f : rig.faults()) result.faults.push_back({.fault = f, .onset_s = f.onset_s});
   result.duration_s = rig.now_s();
@@ -207,7 +211,8 @@ void judge(const SoakOptions& options, const wire::SafetyLimits& limits, double 
   for (const SoakTrial& t : result.trials) {
     if (!t.problem.empty()) result.failures.push_back(fmt::format("{}: its log: {}", t.dir.string(), t.problem));
   }
-  if (!result.emulator.stopped_by.empty()) result.failures.push_back("the emulator stopped: " + result.emulator.stopped_by);
+  if (!result.emulator.stopped_by.empty())
+    result.failures.push_back("the emulator stopped: " + result.emulator.stopped_by);
   if (result.emulator.max_output_dkpa > limits.max_dkpa) {
     result.failures.push_back(fmt::format("the regulators were given {} dkPa, above the limit {}",
                                           result.emulator.max_output_dkpa, limits.max_dkpa));
@@ -238,19 +243,23 @@ nlohmann::json to_json(const SoakResult& result) {
   double max_vent = 0.0;
   std::map<std::string, int> by_kind;
   for (const FaultOutcome& f : result.faults) {
-    faults.push_back({{"kind", link_fault_name(f.fault.kind)},
-                      {"onset_s", f.onset_s},
-                      {"duration_s", f.fault.duration_s},
-                      {"vented_at_onset", f.fault.device_vented_at_onset},
-                      {"vent_after_ms", f.vent_after_s ? nlohmann::json(1000.0 * *f.vent_after_s) : nlohmann::json(nullptr)},
-                      {"vent_cause", f.vent_cause}});
+    faults.push_back(
+        {{"kind", link_fault_name(f.fault.kind)},
+         {"onset_s", f.onset_s},
+         {"duration_s", f.fault.duration_s},
+         {"vented_at_onset", f.fault.device_vented_at_onset},
+         {"vent_after_ms", f.vent_after_s ? nlohmann::json(1000.0 * *f.vent_after_s) : nlohmann::json(nullptr)},
+         {"vent_cause", f.vent_cause}});
     if (f.vent_after_s) max_vent = std::max(max_vent, *f.vent_after_s);
     ++by_kind[link_fault_name(f.fault.kind)];
   }
   long rows = 0;
   for (const SoakTrial& t : result.trials) {
-    trials.push_back({{"dir", t.dir.filename().string()}, {"rows", t.rows}, {"runs_completed", t.runs_completed},
-                      {"ended_by", t.fault}, {"log_problem", t.problem}});
+    trials.push_back({{"dir", t.dir.filename().string()},
+                      {"rows", t.rows},
+                      {"runs_completed", t.runs_completed},
+                      {"ended_by", t.fault},
+                      {"log_problem", t.problem}});
     rows += t.rows;
   }
   for (const MemorySample& m : result.memory) {
@@ -265,11 +274,12 @@ nlohmann::json to_json(const SoakResult& result) {
           {"faults", result.faults.size()},
           {"faults_by_kind", by_kind},
           {"max_vent_after_ms", 1000.0 * max_vent},
-          {"device", {{"sessions", result.emulator.sessions},
-                      {"packets_accepted", result.emulator.packets_accepted},
-                      {"packets_rejected", result.emulator.packets_rejected},
-                      {"max_output_kpa", result.emulator.max_output_dkpa / 10.0},
-                      {"max_loop_lag_ms", result.emulator.max_loop_lag_ms}}},
+          {"device",
+           {{"sessions", result.emulator.sessions},
+            {"packets_accepted", result.emulator.packets_accepted},
+            {"packets_rejected", result.emulator.packets_rejected},
+            {"max_output_kpa", result.emulator.max_output_dkpa / 10.0},
+            {"max_loop_lag_ms", result.emulator.max_loop_lag_ms}}},
           {"memory", memory},
           {"fault_list", faults},
           {"trial_list", trials}};

@@ -31,7 +31,7 @@ namespace softwrist::bridge {
 
 struct SoakOptions {
   double duration_s = 3600.0;
-  std::filesystem::path out;       // one directory per trial: trial_0001, ...; and soak.json
+  std::filesystem::path out;  // one directory per trial: trial_0001, ...; and soak.json
   LineFaultOptions faults;
   bool simulated_time = false;     // the lock-step rig instead of real time
   double vent_deadline_s = 0.050;  // from a fault's onset to the device vented
@@ -56,8 +56,8 @@ struct SoakTrial {
   std::filesystem::path dir;
   long rows = 0;
   int runs_completed = 0;
-  std::string fault;     // what ended it
-  std::string problem;   // what is wrong with its log; empty when it is whole
+  std::string fault;    // what ended it
+  std::string problem;  // what is wrong with its log; empty when it is whole
 };
 
 struct SoakResult {

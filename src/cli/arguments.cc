@@ -30,8 +30,8 @@ std::vector<double> parse_numbers(std::string_view text, std::size_t count, std:
     start = comma + 1;
   }
   if (numbers.size() != count) {
-    throw UsageError(fmt::format("{}: expected {} comma-separated numbers, got {} in '{}'", option, count,
-                                 numbers.size(), text));
+    throw UsageError(
+        fmt::format("{}: expected {} comma-separated numbers, got {} in '{}'", option, count, numbers.size(), text));
   }
   return numbers;
 }

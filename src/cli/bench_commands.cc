@@ -71,8 +71,8 @@ int run_sim_bench(const SimBenchOptions& options, std::ostream& out) {
                .dump()
         << '\n';
   } else {
-    out << fmt::format("4-muscle wrist model, {} steps x {} rounds (best), stretch {}\n", options.steps,
-                       options.rounds, physics::to_string(device.stretch_mode))
+    out << fmt::format("4-muscle wrist model, {} steps x {} rounds (best), stretch {}\n", options.steps, options.rounds,
+                       physics::to_string(device.stretch_mode))
         << fmt::format("  fPAM plugin        {:>10.0f} steps/s\n", best_plugin)
         << fmt::format("  built-in <general> {:>10.0f} steps/s\n", best_builtin)
         << fmt::format("  ratio (plugin cost / built-in cost) {:.3f}  (target <= 1.3)\n", ratio);
@@ -114,8 +114,8 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
   const bool not_worse = result.best.objective <= check.objective + 1e-9;
   const auto& b = result.best.placement;
   const auto& c = check.placement;
-  const double distance_cm = units::m_to_cm(std::max({std::abs(b.d1 - c.d1), std::abs(b.w1 - c.w1),
-                                                      std::abs(b.d2 - c.d2), std::abs(b.w2 - c.w2)}));
+  const double distance_cm = units::m_to_cm(
+      std::max({std::abs(b.d1 - c.d1), std::abs(b.w1 - c.w1), std::abs(b.d2 - c.d2), std::abs(b.w2 - c.w2)}));
   constexpr double kPaperWallS = 24 * 60;  // Section Parameter optimization: "24 minutes on average"
   if (options.json) {
     out << nlohmann::json{{"wall_s", wall},
@@ -136,14 +136,16 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
   } else {
     out << fmt::format("design optimization ({}), {} starts on {} threads, {}\n", options.config, result.starts,
                        options.jobs, settings.options.algorithm)
-        << fmt::format("  multi-start   {:>8.2f} s  {:>9} evaluations  optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
-                       "  objective {:.4f} N m\n",
-                       wall, result.evaluations, units::m_to_cm(b.d1), units::m_to_cm(b.w1), units::m_to_cm(b.d2),
-                       units::m_to_cm(b.w2), result.best.objective)
-        << fmt::format("  exhaustive    {:>8.2f} s  {:>9} points       optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
-                       "  objective {:.4f} N m ({} cm grid)\n",
-                       exhaustive_wall, check.evaluations, units::m_to_cm(c.d1), units::m_to_cm(c.w1),
-                       units::m_to_cm(c.d2), units::m_to_cm(c.w2), check.objective, options.exhaustive_resolution_cm)
+        << fmt::format(
+               "  multi-start   {:>8.2f} s  {:>9} evaluations  optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
+               "  objective {:.4f} N m\n",
+               wall, result.evaluations, units::m_to_cm(b.d1), units::m_to_cm(b.w1), units::m_to_cm(b.d2),
+               units::m_to_cm(b.w2), result.best.objective)
+        << fmt::format(
+               "  exhaustive    {:>8.2f} s  {:>9} points       optimum d1 {:.2f} w1 {:.2f} d2 {:.2f} w2 {:.2f} cm"
+               "  objective {:.4f} N m ({} cm grid)\n",
+               exhaustive_wall, check.evaluations, units::m_to_cm(c.d1), units::m_to_cm(c.w1), units::m_to_cm(c.d2),
+               units::m_to_cm(c.w2), check.objective, options.exhaustive_resolution_cm)
         << fmt::format("  same optimum: {} (multi-start not worse, within one grid step)\n",
                        not_worse && distance_cm <= options.exhaustive_resolution_cm ? "yes" : "NO")
         << fmt::format("  paper (MATLAB fminsearch): 24 min in all; target here < 10 s; ratio paper/here {:.0f}\n",
@@ -197,8 +199,9 @@ int run_control_bench(const ControlBenchOptions& options, std::ostream& out) {
   out << fmt::format("controller + simulated plant along {} ({:.0f} s simulated)\n", options.config, duration);
   for (const auto& r : rows) {
     out << fmt::format("  {:<12} {:>7.2f} s wall  real-time factor {:>6.1f}  (plant alone {:.2f} s; ratio {:.2f})\n",
-                       r["controller"].get<std::string>(), r["wall_s"].get<double>(), r["real_time_factor"].get<double>(),
-                       r["plant_alone_wall_s"].get<double>(), r["cost_ratio"].get<double>());
+                       r["controller"].get<std::string>(), r["wall_s"].get<double>(),
+                       r["real_time_factor"].get<double>(), r["plant_alone_wall_s"].get<double>(),
+                       r["cost_ratio"].get<double>());
   }
   out << "  real time needs a factor >= 1; the ratio is the loop's cost over the plant's alone\n";
   return 0;
@@ -247,8 +250,9 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   auto* bench = app.add_subcommand("bench", "Speed figures, compared side by side in one run");
   bench->require_subcommand(1);
   auto options = std::make_shared<SimBenchOptions>();
-  auto* sim_bench = bench->add_subcommand("sim", "Steps per second of the model with the fPAM plugin and with "
-                                                 "MuJoCo's built-in <general> tendon actuators, and their ratio");
+  auto* sim_bench = bench->add_subcommand("sim",
+                                          "Steps per second of the model with the fPAM plugin and with "
+                                          "MuJoCo's built-in <general> tendon actuators, and their ratio");
   sim_bench->add_option("--steps", options->steps, "Steps per round");
   sim_bench->add_option("--rounds", options->rounds, "Interleaved rounds; the best of each is reported");
   sim_bench->add_flag("--json", options->json, "Print {plugin_steps_per_s, builtin_steps_per_s, ratio, ...}");

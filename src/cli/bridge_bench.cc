@@ -123,10 +123,10 @@ void print_report_text(const BenchReport& r, std::ostream& out) {
                      kPeriod * 1000.0);
   out << fmt::format("  host overhead per cycle  mean {:.1f} us, p99 {:.1f} us, max {:.1f} us\n", r.overhead.mean,
                      r.overhead.p99, r.overhead.max);
-  out << fmt::format("  command to device        mean {:.2f} ms, p50 {:.2f}, p99 {:.2f}, max {:.2f} ms ({} of {} "
-                     "accepted)\n",
-                     r.latency.mean, r.latency.p50, r.latency.p99, r.latency.max, r.commands_accepted,
-                     r.commands_sent);
+  out << fmt::format(
+      "  command to device        mean {:.2f} ms, p50 {:.2f}, p99 {:.2f}, max {:.2f} ms ({} of {} "
+      "accepted)\n",
+      r.latency.mean, r.latency.p50, r.latency.p99, r.latency.max, r.commands_accepted, r.commands_sent);
   out << fmt::format("  IMU reading age          mean {:.2f} ms, p99 {:.2f}, max {:.2f} ms (data every 10 ms)\n",
                      r.age.mean, r.age.p99, r.age.max);
   out << fmt::format("  added per cycle          {:.2f} ms = {:.1f} % of the 14 ms period\n", r.added_ms,

@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "physics/exosuit_layout.h"
 #include "bridge/bridge_plant.h"
 #include "bridge_apps/device_emulator.h"
 #include "bridge_apps/hardware_trial.h"
@@ -15,6 +14,7 @@
 #include "cli/arguments.h"
 #include "cli/stop_signals.h"
 #include "experiments/experiment.h"
+#include "physics/exosuit_layout.h"
 
 namespace softwrist::cli {
 namespace {
@@ -42,7 +42,8 @@ struct TrialCommandOptions {
 // such a link is never replaced.
 void make_link(const std::filesystem::path& link, const std::string& target) {
   if (std::filesystem::is_symlink(link)) std::filesystem::remove(link);
-  if (std::filesystem::exists(link)) throw UsageError(fmt::format("--link {}: exists and is not a symbolic link", link.string()));
+  if (std::filesystem::exists(link))
+    throw UsageError(fmt::format("--link {}: exists and is not a symbolic link", link.string()));
   std::filesystem::create_symlink(target, link);
 }
 
@@ -73,9 +74,10 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
   server.join();
   if (!options.link.empty() && std::filesystem::is_symlink(options.link)) std::filesystem::remove(options.link);
   const bridge::EmulatorStats s = emulator.stats();
-  out << fmt::format("device emulator stopped: {} sessions, {} packets accepted, {} rejected, {} data packets sent, "
-                     "{} bytes dropped, {} vents\n",
-                     s.sessions, s.packets_accepted, s.packets_rejected, s.data_sent, s.bytes_dropped, s.vents.size());
+  out << fmt::format(
+      "device emulator stopped: {} sessions, {} packets accepted, {} rejected, {} data packets sent, "
+      "{} bytes dropped, {} vents\n",
+      s.sessions, s.packets_accepted, s.packets_rejected, s.data_sent, s.bytes_dropped, s.vents.size());
   if (!s.stopped_by.empty()) throw std::runtime_error("device emulator: the simulated exosuit failed: " + s.stopped_by);
 }
 
@@ -126,21 +128,22 @@ struct SoakCommandOptions {
 void soak(const SoakCommandOptions& options, std::ostream& out, std::ostream& err) {
   if (!(options.duration_s > 0.0)) throw UsageError("--duration-s must be > 0");
   if (!(options.fault_interval_s > 0.0)) throw UsageError("--fault-interval-s must be > 0");
-  const bridge::SoakResult result =
-      bridge::run_soak(experiments::load_experiment_config(options.config), bridge::load_emulator_config(options.emulator),
-                       {.duration_s = options.duration_s,
-                        .out = options.out,
-                        .faults = {.mean_interval_s = options.fault_interval_s, .seed = options.seed},
-                        .simulated_time = options.simulated_time,
-                        .progress = &err});
+  const bridge::SoakResult result = bridge::run_soak(
+      experiments::load_experiment_config(options.config), bridge::load_emulator_config(options.emulator),
+      {.duration_s = options.duration_s,
+       .out = options.out,
+       .faults = {.mean_interval_s = options.fault_interval_s, .seed = options.seed},
+       .simulated_time = options.simulated_time,
+       .progress = &err});
   const nlohmann::json j = bridge::to_json(result);
   const auto& memory = result.memory;
-  out << fmt::format("soak ({} time): {:.0f} s, {} trials, {} rows, {} faults {}, slowest vent {:.1f} ms after its fault; heap in "
-                     "use {:.2f} MB at the start, {:.2f} MB at the end (resident {:.1f} -> {:.1f} MB); {}/soak.json\n",
-                     options.simulated_time ? "simulated" : "real", result.duration_s, result.trials.size(), j["rows"].get<long>(), result.faults.size(),
-                     j["faults_by_kind"].dump(), j["max_vent_after_ms"].get<double>(),
-                     memory.front().heap_bytes / 1e6, memory.back().heap_bytes / 1e6,
-                     memory.front().resident_bytes / 1e6, memory.back().resident_bytes / 1e6, options.out);
+  out << fmt::format(
+      "soak ({} time): {:.0f} s, {} trials, {} rows, {} faults {}, slowest vent {:.1f} ms after its fault; heap in "
+      "use {:.2f} MB at the start, {:.2f} MB at the end (resident {:.1f} -> {:.1f} MB); {}/soak.json\n",
+      options.simulated_time ? "simulated" : "real", result.duration_s, result.trials.size(), j["rows"].get<long>(),
+      result.faults.size(), j["faults_by_kind"].dump(), j["max_vent_after_ms"].get<double>(),
+      memory.front().heap_bytes / 1e6, memory.back().heap_bytes / 1e6, memory.front().resident_bytes / 1e6,
+      memory.back().resident_bytes / 1e6, options.out);
   if (!result.passed()) {
     std::string list;
     for (const auto& f : result.failures) list += "\n  " + f;
@@ -153,20 +156,23 @@ void soak(const SoakCommandOptions& options, std::ostream& out, std::ostream& er
 void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto emulate_options = std::make_shared<EmulateOptions>();
   auto* emulate_command = app.add_subcommand(
-      "emulate", "Run the device emulator on a pseudo-terminal: the firmware's protocol and safety rules in front of "
-                 "a simulated exosuit with the extra effects of its config (docs/emulator.md)");
+      "emulate",
+      "Run the device emulator on a pseudo-terminal: the firmware's protocol and safety rules in front of "
+      "a simulated exosuit with the extra effects of its config (docs/emulator.md)");
   emulate_command->add_option("config", emulate_options->config, "Emulator config (JSON, softwrist.emulator/1)")
       ->required()
       ->check(CLI::ExistingFile);
-  emulate_command->add_option("--link", emulate_options->link,
-                              "Also reach the pseudo-terminal through this path (a symbolic link), e.g. /tmp/softwrist-device");
+  emulate_command->add_option(
+      "--link", emulate_options->link,
+      "Also reach the pseudo-terminal through this path (a symbolic link), e.g. /tmp/softwrist-device");
   emulate_command->add_option("--duration-s", emulate_options->duration_s, "Stop after this long; default: at Ctrl-C");
   emulate_command->callback([emulate_options, &out] { emulate(*emulate_options, out); });
 
   auto trial_options = std::make_shared<TrialCommandOptions>();
-  auto* trial_command = app.add_subcommand(
-      "trial", "Run a tracking experiment on the exosuit (or the emulator) through the bridge, logging as a "
-               "simulated run does");
+  auto* trial_command =
+      app.add_subcommand("trial",
+                         "Run a tracking experiment on the exosuit (or the emulator) through the bridge, logging as a "
+                         "simulated run does");
   trial_command->add_option("config", trial_options->config, "Tracking experiment config (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -176,9 +182,11 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("--controller", trial_options->controllers,
                             "Run only this controller (repeatable); default: every controller of the config");
   trial_command->add_option("--repetitions", trial_options->repetitions, "Runs per controller; default: the config's");
-  trial_command->add_option("--rest-s", trial_options->rest_s, "Vented pause before each run, while the subject holds the "
-                                                               "wrist at neutral for zeroing [s]");
-  trial_command->add_option("--max-kpa", trial_options->max_kpa, "The host's pressure limit (the device's applies too)");
+  trial_command->add_option("--rest-s", trial_options->rest_s,
+                            "Vented pause before each run, while the subject holds the "
+                            "wrist at neutral for zeroing [s]");
+  trial_command->add_option("--max-kpa", trial_options->max_kpa,
+                            "The host's pressure limit (the device's applies too)");
   trial_command->add_option("--timeout-ms", trial_options->timeout_ms,
                             "The host's watchdog: no valid data, or no command of its own, for this long stops the "
                             "trial (the device's applies too; the shorter wins); default 40");
@@ -188,10 +196,12 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
 
   auto soak_options = std::make_shared<SoakCommandOptions>();
   auto* soak_command = app.add_subcommand(
-      "soak", "The long trial: tracking through the bridge against the emulator over a link with random faults; "
-              "checks that every fault vents within 50 ms, every log reads back whole, memory stays flat");
+      "soak",
+      "The long trial: tracking through the bridge against the emulator over a link with random faults; "
+      "checks that every fault vents within 50 ms, every log reads back whole, memory stays flat");
   soak_command->add_option("--duration-s", soak_options->duration_s, "How long; default 3600");
-  soak_command->add_option("--fault-interval-s", soak_options->fault_interval_s, "Mean time between faults; default 20");
+  soak_command->add_option("--fault-interval-s", soak_options->fault_interval_s,
+                           "Mean time between faults; default 20");
   soak_command->add_option("--seed", soak_options->seed, "Seed of the fault schedule");
   soak_command->add_option("--out", soak_options->out, "Directory for the trials and soak.json; default out/soak");
   soak_command->add_flag("--simulated-time", soak_options->simulated_time,

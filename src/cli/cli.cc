@@ -19,9 +19,10 @@
 namespace softwrist::cli {
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{"softwrist: simulation testbed for a soft wrist exosuit driven by fabric pneumatic artificial "
-               "muscles (fPAMs)",
-               "softwrist"};
+  CLI::App app{
+      "softwrist: simulation testbed for a soft wrist exosuit driven by fabric pneumatic artificial "
+      "muscles (fPAMs)",
+      "softwrist"};
   app.option_defaults()->always_capture_default();
   app.require_subcommand(1);
   app.set_version_flag("--version", SOFTWRIST_VERSION);

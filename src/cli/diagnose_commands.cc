@@ -61,8 +61,9 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);
-  out << fmt::format("the same over the trials with a significant gap: nominal {:.3f}, corrected {:.3f} (closed {:.1f} %)\n",
-                     d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed());
+  out << fmt::format(
+      "the same over the trials with a significant gap: nominal {:.3f}, corrected {:.3f} (closed {:.1f} %)\n",
+      d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed());
   out << "effect            shrink   95% CI            held-out after  params\n";
   for (const auto& f : d.effects) {
     if (!f.applicable) {
@@ -132,14 +133,17 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   }
   d.fpam = d.fpam.with_rows(std::move(rows));
   sim::parse_device(sim::device_to_json(d), "the synthesized device");  // validates the edited description
-  diagnosis::write_synthetic_data(
-      real,
-      {.measured_pressures = !o.no_measured_pressures, .repetitions = o.repetitions, .trajectory_s = o.trajectory_s,
-       .seed = o.seed},
-      o.out);
+  diagnosis::write_synthetic_data(real,
+                                  {.measured_pressures = !o.no_measured_pressures,
+                                   .repetitions = o.repetitions,
+                                   .trajectory_s = o.trajectory_s,
+                                   .seed = o.seed},
+                                  o.out);
   std::ofstream(fs::path(o.out) / "real_device.json") << sim::device_to_json(d);
-  out << fmt::format("{}: torque_sweep, range_of_motion, tensile, trajectory (the device as simulated: "
-                     "real_device.json)\n", o.out);
+  out << fmt::format(
+      "{}: torque_sweep, range_of_motion, tensile, trajectory (the device as simulated: "
+      "real_device.json)\n",
+      o.out);
 }
 
 struct DiagnoseBenchOptions {
@@ -185,9 +189,10 @@ void run_diagnose_bench(const DiagnoseBenchOptions& o, std::ostream& out) {
     out << result.dump(2) << "\n";
     return;
   }
-  out << fmt::format("diagnosis of the paper-sized data set ({} trials, {} measurements, {} model evaluations, {} "
-                     "jobs): {:.2f} s (target < 30 s); verdict {}\n",
-                     d.trials.size(), points, evaluations, o.jobs, wall, d.verdict);
+  out << fmt::format(
+      "diagnosis of the paper-sized data set ({} trials, {} measurements, {} model evaluations, {} "
+      "jobs): {:.2f} s (target < 30 s); verdict {}\n",
+      d.trials.size(), points, evaluations, o.jobs, wall, d.verdict);
 }
 
 struct DiagnoseBenchmarkOptions {
@@ -271,10 +276,10 @@ void run_diagnose_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& out
        result.unexplained_correct_rate, diagnosis::kUnexplainedTarget);
   if (result.paper_case) {
     const auto& p = *result.paper_case;
-    out << fmt::format("paper's case (stretching withheld): verdict {}, torque MAE {:.3f} -> {:.3f} N m (x{:.1f}; the "
-                       "paper: 1.111 -> 0.283, x3.9)\n",
-                       p.verdict, p.torque_mae_before_nm, p.torque_mae_after_nm,
-                       p.torque_mae_before_nm / p.torque_mae_after_nm);
+    out << fmt::format(
+        "paper's case (stretching withheld): verdict {}, torque MAE {:.3f} -> {:.3f} N m (x{:.1f}; the "
+        "paper: 1.111 -> 0.283, x3.9)\n",
+        p.verdict, p.torque_mae_before_nm, p.torque_mae_after_nm, p.torque_mae_before_nm / p.torque_mae_after_nm);
   }
   out << fmt::format("{} diagnoses in {:.1f} s\n", result.runs.size() + (result.paper_case ? 1 : 0), result.wall_s);
 }
@@ -285,7 +290,8 @@ void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
   auto o = std::make_shared<DiagnoseBenchOptions>();
   auto* command = bench.add_subcommand(
       "diagnose", "Wall time of one full gap diagnosis of the paper-sized data set (synthesized first, not timed)");
-  command->add_flag("--json", o->json, "Print {wall_s, synthesize_s, trials, measurements, model_evaluations, verdict}");
+  command->add_flag("--json", o->json,
+                    "Print {wall_s, synthesize_s, trials, measurements, model_evaluations, verdict}");
   command->add_option("--trajectory-s", o->trajectory_s, "Length of the trajectory trial (default 72 s)");
   command->add_option("--jobs", o->jobs, "Effects fitted in parallel (default 2)");
   command->callback([o, &out] { run_diagnose_bench(*o, out); });
@@ -294,8 +300,9 @@ void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
 void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto d = std::make_shared<DiagnoseOptions>();
   auto* diagnose = app.add_subcommand(
-      "diagnose", "Where and why real trials differ from the model: localisation, the catalogue's effects fitted on "
-                  "training data and scored on held-out data, a verdict (docs/diagnosis.md)");
+      "diagnose",
+      "Where and why real trials differ from the model: localisation, the catalogue's effects fitted on "
+      "training data and scored on held-out data, a verdict (docs/diagnosis.md)");
   diagnose->add_option("--real", d->real, "Directory of trial logs (hardware trials, imports, runs)")->required();
   diagnose->add_option("--model", d->model, "Placement file of the nominal model")->required();
   diagnose->add_option("--out", d->out, "Output directory (default REAL/diagnosis)");
@@ -306,57 +313,62 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 
   auto i = std::make_shared<ImportCommandOptions>();
-  auto* import = app.add_subcommand("import", "A CSV of your own measurements as a trial log (units in the column names)");
+  auto* import =
+      app.add_subcommand("import", "A CSV of your own measurements as a trial log (units in the column names)");
   import->add_option("file", i->file, "The CSV")->required();
   import->add_option("--kind", i->import.kind, "torque-sweep, rom, tensile or trajectory")->required();
   import->add_option("--out", i->out, "Directory of the log")->required();
   import->add_flag("--hand-supported", i->import.hand_supported, "A table carried the hand (no gravity in the replay)");
-  import->add_option("--muscle", i->import.muscle, "Torque sweeps without a muscle column: the muscle (default flexor)");
+  import->add_option("--muscle", i->import.muscle,
+                     "Torque sweeps without a muscle column: the muscle (default flexor)");
   import->add_flag("--overwrite", i->import.overwrite, "Replace a log already in --out");
   import->callback([i, &out] {
     const auto result = diagnosis::import_csv(i->file, i->out, i->import);
-    out << fmt::format("{} ({} rows)\n", result.log.string(), result.rows);
-  });
+  out << fmt::format("{} ({} rows)\n", result.log.string(), result.rows);
+});
 
-  auto s = std::make_shared<SynthesizeOptions>();
-  auto* synth = app.add_subcommand(
-      "synthesize", "\"Real\" data from a simulated device with effects injected: a torque sweep, range of motion, "
-                    "tensile test and trajectory, for trying the diagnosis");
-  synth->add_option("--model", s->model, "Placement file of the device before the effects")->required();
-  synth->add_option("--out", s->out, "Output directory")->required();
-  synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
-  synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
-  synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
-  synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
-  synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
-  synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
-  synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
-  synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
-  synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
-  synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
-  synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
-  synth->add_option("--repetitions", s->repetitions, "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
-  synth->add_option("--seed", s->seed, "Noise seed (default 1)");
-  synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
-                  "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
-  synth->callback([s, &out] { run_synthesize(*s, out); });
+auto s = std::make_shared<SynthesizeOptions>();
+auto* synth =
+    app.add_subcommand("synthesize",
+                       "\"Real\" data from a simulated device with effects injected: a torque sweep, range of motion, "
+                       "tensile test and trajectory, for trying the diagnosis");
+synth->add_option("--model", s->model, "Placement file of the device before the effects")->required();
+synth->add_option("--out", s->out, "Output directory")->required();
+synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
+synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
+synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
+synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
+synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
+synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
+synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
+synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
+synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
+synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
+synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
+synth->add_option("--repetitions", s->repetitions,
+                  "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
+synth->add_option("--seed", s->seed, "Noise seed (default 1)");
+synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
+                "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
+synth->callback([s, &out] { run_synthesize(*s, out); });
 
-  auto b = std::make_shared<DiagnoseBenchmarkOptions>();
-  auto* bench = app.add_subcommand(
-      "diagnose-bench", "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
-                        "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
-  bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
-  bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
-  bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
-  bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
-  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
-  bench->add_option("--variation", b->variation,
-                    "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
-  bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
-  bench->add_flag("--json", b->json,
-                  "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
-                  "confusion, runs, paper_case, wall_s}");
-  bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
-}
+auto b = std::make_shared<DiagnoseBenchmarkOptions>();
+auto* bench =
+    app.add_subcommand("diagnose-bench",
+                       "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
+                       "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
+bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
+bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
+bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
+bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
+bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
+bench->add_option("--variation", b->variation,
+                  "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
+bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
+bench->add_flag("--json", b->json,
+                "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
+                "confusion, runs, paper_case, wall_s}");
+bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
+}  // namespace softwrist::cli
 
 }  // namespace softwrist::cli

@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "physics/exosuit_layout.h"
 #include "cli/arguments.h"
+#include "physics/exosuit_layout.h"
 #include "physics/paper_parameters.h"
 #include "physics/range_of_motion.h"
 #include "physics/units.h"
@@ -39,8 +39,8 @@ constexpr double kMaxModelPressureKpa = 448.0;
 
 double checked_pressure_pa(double pressure_kpa) {
   if (!std::isfinite(pressure_kpa) || pressure_kpa < 0.0 || pressure_kpa > kMaxModelPressureKpa) {
-    throw UsageError(fmt::format("--pressure-kpa: {} is outside [0, {}] kPa (the fPAM's burst pressure)",
-                                 pressure_kpa, kMaxModelPressureKpa));
+    throw UsageError(fmt::format("--pressure-kpa: {} is outside [0, {}] kPa (the fPAM's burst pressure)", pressure_kpa,
+                                 kMaxModelPressureKpa));
   }
   return kpa_to_pa(pressure_kpa);
 }
@@ -60,9 +60,10 @@ void add_fpam_options(CLI::App& command, FpamOptions& options, const std::string
   options.eps = command.add_option("--eps-max", options.eps_max, "Constant maximum contraction ratio eps_max");
   options.r0->needs(options.eps);
   options.eps->needs(options.r0);
-  command.add_option("--fpam-table", options.table,
-                     "Per-pressure fPAM parameters: 'tensile' = Table tensile_testing_parameters (default: " +
-                         default_description + ")")
+  command
+      .add_option("--fpam-table", options.table,
+                  "Per-pressure fPAM parameters: 'tensile' = Table tensile_testing_parameters (default: " +
+                      default_description + ")")
       ->check(CLI::IsMember({"tensile"}))
       ->excludes(options.r0)
       ->excludes(options.eps);
@@ -70,7 +71,8 @@ void add_fpam_options(CLI::App& command, FpamOptions& options, const std::string
 
 physics::FpamParameters build_fpam(const FpamOptions& options, const physics::FpamParameters& fallback) {
   if (options.table == "tensile") return paper::tensile_fpam();
-  if (options.r0 != nullptr && options.r0->count() > 0) return physics::FpamParameters::Constant(cm_to_m(options.r0_cm), options.eps_max);
+  if (options.r0 != nullptr && options.r0->count() > 0)
+    return physics::FpamParameters::Constant(cm_to_m(options.r0_cm), options.eps_max);
   return fallback;
 }
 
@@ -87,8 +89,10 @@ struct StretchOptions {
 };
 
 void add_stretch_options(CLI::App& command, StretchOptions& options) {
-  command.add_option("--stretch", options.mode, "Mounting-point stretching: none, oneshot (the paper's) or "
-                                                "selfconsistent (Eqn. fabric_stretching)")
+  command
+      .add_option("--stretch", options.mode,
+                  "Mounting-point stretching: none, oneshot (the paper's) or "
+                  "selfconsistent (Eqn. fabric_stretching)")
       ->check(CLI::IsMember({"none", "oneshot", "selfconsistent"}));
   command.add_option("--K1", options.k1_n_per_cm2, "Forearm mount stiffness K1 [N/cm^2]; only |K1| is used");
   command.add_option("--K2", options.k2_n_per_cm2, "Hand mount stiffness K2 [N/cm^2]; only |K2| is used");
@@ -123,8 +127,11 @@ struct TorqueOptions {
 int run_torque(const TorqueOptions& options, std::ostream& out) {
   const double pressure = checked_pressure_pa(options.pressure_kpa);
   const auto angles_deg = parse_angle_range_deg(options.angles, "--angles");
-  physics::Muscle muscle{{.fpam = build_fpam(options.fpam, paper::tensile_fpam()), .rest_length = cm_to_m(options.l0_cm)},
-                         parse_placement_cm(options.placement, "--placement"),
+  // What can throw (a bad option) is read before the muscle is built: GCC 12 destroys a member twice when an
+  // exception leaves the aggregate initialisation of a class with a base (here MuscleLaw).
+  const physics::Placement placement = parse_placement_cm(options.placement, "--placement");
+  physics::FpamParameters fpam = build_fpam(options.fpam, paper::tensile_fpam());
+  physics::Muscle muscle{{.fpam = std::move(fpam), .rest_length = cm_to_m(options.l0_cm)}, placement,
                          cm_to_m(options.rw_cm)};
   if (options.l0_angle->count() > 0) {
     muscle.rest_length =
@@ -133,10 +140,13 @@ int run_torque(const TorqueOptions& options, std::ostream& out) {
   apply_stretch(options.stretch, muscle);
   physics::validate(muscle);
 
-  json result = {{"angles_deg", json::array()}, {"torque_nm", json::array()}, {"regime", json::array()},
-                 {"force_n", json::array()},    {"length_cm", json::array()}};
-  std::string table = fmt::format("{:>10} {:>10} {:>9} {:>10} {:>9}\n", "angle_deg", "torque_nm", "force_n",
-                                  "length_cm", "regime");
+  json result = {{"angles_deg", json::array()},
+                 {"torque_nm", json::array()},
+                 {"regime", json::array()},
+                 {"force_n", json::array()},
+                 {"length_cm", json::array()}};
+  std::string table =
+      fmt::format("{:>10} {:>10} {:>9} {:>10} {:>9}\n", "angle_deg", "torque_nm", "force_n", "length_cm", "regime");
   for (const double angle_deg : angles_deg) {
     const auto state = physics::muscle_state(muscle, deg_to_rad(angle_deg), pressure);
     result["angles_deg"].push_back(angle_deg);
@@ -151,11 +161,11 @@ int run_torque(const TorqueOptions& options, std::ostream& out) {
     out << result.dump() << '\n';
   } else {
     const auto& p = muscle.placement;
-    out << fmt::format("# fPAM torque at {} kPa: d1={:.2f} w1={:.2f} d2={:.2f} w2={:.2f} L0={:.2f} r_w={:.2f} cm, "
-                       "{}, stretch {}\n",
-                       options.pressure_kpa, m_to_cm(p.d1), m_to_cm(p.w1), m_to_cm(p.d2), m_to_cm(p.w2),
-                       m_to_cm(muscle.rest_length), m_to_cm(muscle.wrist_radius), describe(muscle.fpam),
-                       options.stretch.mode)
+    out << fmt::format(
+               "# fPAM torque at {} kPa: d1={:.2f} w1={:.2f} d2={:.2f} w2={:.2f} L0={:.2f} r_w={:.2f} cm, "
+               "{}, stretch {}\n",
+               options.pressure_kpa, m_to_cm(p.d1), m_to_cm(p.w1), m_to_cm(p.d2), m_to_cm(p.w2),
+               m_to_cm(muscle.rest_length), m_to_cm(muscle.wrist_radius), describe(muscle.fpam), options.stretch.mode)
         << table;
   }
   return 0;
@@ -233,8 +243,8 @@ std::string rom_markdown(const std::vector<RomRow>& rows) {
     const std::string diff =
         row.limit_deg ? fmt::format("{:+.1f} deg", *row.limit_deg - e.paper_modeled_limit_deg()) : "-";
     text += fmt::format("| {} | {} | {:.1f} deg | {} | {:.3f} | {:.1f} (STD {:.1f}) deg | {:.1f} (STD {:.1f}) deg |\n",
-                        e.direction, mine, e.paper_modeled_limit_deg(), diff, row.eps_max_matching_paper,
-                        e.exosuit_deg, e.exosuit_std_deg, e.biological_deg, e.biological_std_deg);
+                        e.direction, mine, e.paper_modeled_limit_deg(), diff, row.eps_max_matching_paper, e.exosuit_deg,
+                        e.exosuit_std_deg, e.biological_deg, e.biological_std_deg);
   }
   return text;
 }
@@ -336,16 +346,18 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
   model->require_subcommand(1);
 
   auto torque_options = std::make_shared<TorqueOptions>();
-  auto* torque = model->add_subcommand("torque", "Torque of one fPAM over a range of wrist angles (Eqns. force, "
-                                                 "tau1, tau2, fabric_stretching). Defaults: the flexor of Table "
-                                                 "torque_measurement_parameters");
+  auto* torque = model->add_subcommand("torque",
+                                       "Torque of one fPAM over a range of wrist angles (Eqns. force, "
+                                       "tau1, tau2, fabric_stretching). Defaults: the flexor of Table "
+                                       "torque_measurement_parameters");
   torque->add_option("--pressure-kpa", torque_options->pressure_kpa, "fPAM pressure [kPa]");
   torque->add_option("--angles", torque_options->angles, "Wrist angles FROM:TO:STEP [deg], flexion positive");
   torque->add_option("--placement", torque_options->placement, "Mounting points d1,w1,d2,w2 [cm]");
   auto* l0 = torque->add_option("--L0", torque_options->l0_cm, "Fully stretched fPAM length L0 [cm]");
   torque_options->l0_angle =
-      torque->add_option("--L0-from-angle", torque_options->l0_angle_deg,
-                         "Instead of --L0: L0 = Eqn. length at this wrist angle [deg] (e.g. -65.4)")
+      torque
+          ->add_option("--L0-from-angle", torque_options->l0_angle_deg,
+                       "Instead of --L0: L0 = Eqn. length at this wrist angle [deg] (e.g. -65.4)")
           ->excludes(l0);
   torque->add_option("--rw", torque_options->rw_cm, "Wrist radius r_w [cm]");
   add_fpam_options(*torque, torque_options->fpam, "tensile");
@@ -354,8 +366,9 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
   torque->callback([torque_options, &out] { run_torque(*torque_options, out); });
 
   auto rom_options = std::make_shared<RomOptions>();
-  auto* rom = model->add_subcommand("rom", "Modeled joint limits (angle where the torque reaches zero) of the four "
-                                           "muscles of Table RoM, beside the paper's");
+  auto* rom = model->add_subcommand("rom",
+                                    "Modeled joint limits (angle where the torque reaches zero) of the four "
+                                    "muscles of Table RoM, beside the paper's");
   rom->add_option("--pressure-kpa", rom_options->pressure_kpa, "fPAM pressure [kPa]");
   rom->add_option("--rw", rom_options->rw_cm, "Wrist radius r_w [cm] (Table RoM gives none)");
   add_fpam_options(*rom, rom_options->fpam, "r0=1.26 cm, eps_max=0.277: Table tensile_testing_parameters at 137 kPa");
@@ -369,14 +382,16 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
   rom->callback([rom_options, &out] { run_rom(*rom_options, out); });
 
   auto tables_dir = std::make_shared<std::string>("out/model");
-  auto* tables = model->add_subcommand("tables", "The main job's tables: flexor torque at the paper's angles and "
-                                                 "pressures (three models) and the modeled range of motion");
+  auto* tables = model->add_subcommand("tables",
+                                       "The main job's tables: flexor torque at the paper's angles and "
+                                       "pressures (three models) and the modeled range of motion");
   tables->add_option("--out", *tables_dir, "Directory for model_tables.md, torque.json, rom.json");
   tables->callback([tables_dir, &out] { run_tables(*tables_dir, out); });
 
   auto build_options = std::make_shared<BuildOptions>();
-  auto* build = model->add_subcommand("build", "Generate the MuJoCo hand-forearm model (MJCF) from a placement file "
-                                               "(docs/placement-file.md); checks that it loads with the plugins");
+  auto* build = model->add_subcommand("build",
+                                      "Generate the MuJoCo hand-forearm model (MJCF) from a placement file "
+                                      "(docs/placement-file.md); checks that it loads with the plugins");
   build->add_option("--placement", build_options->placement, "Placement file (JSON); default: the paper's device")
       ->check(CLI::ExistingFile);
   build->add_option("--out", build_options->out, "Output MJCF file")->required();
@@ -387,11 +402,13 @@ void add_model_commands(CLI::App& app, std::ostream& out) {
     std::string device = "paper";
   };
   auto placement_options = std::make_shared<PlacementOptions>();
-  auto* placement = model->add_subcommand("placement", "Write one of the paper's devices as a placement file, a "
-                                                       "starting point for a personalised one");
+  auto* placement = model->add_subcommand("placement",
+                                          "Write one of the paper's devices as a placement file, a "
+                                          "starting point for a personalised one");
   placement->add_option("--out", placement_options->out, "Output file; default: print");
-  placement->add_option("--device", placement_options->device,
-                        "paper: the torque-rig flexor with the Table RoM muscles; rom: all four Table RoM muscles")
+  placement
+      ->add_option("--device", placement_options->device,
+                   "paper: the torque-rig flexor with the Table RoM muscles; rom: all four Table RoM muscles")
       ->check(CLI::IsMember({"paper", "rom"}));
   placement->callback([placement_options, &out] {
     const std::string text =

@@ -46,8 +46,9 @@ void run_personalize(const PersonalizeOptions& options, std::ostream& out) {
   device.wrist.ulnar_limit = user.range[2];
   device.wrist.radial_limit = user.range[3];
 
-  const std::filesystem::path dir =
-      options.out.empty() ? std::filesystem::path("runs") / std::filesystem::path(options.user).stem() : std::filesystem::path(options.out);
+  const std::filesystem::path dir = options.out.empty()
+                                        ? std::filesystem::path("runs") / std::filesystem::path(options.user).stem()
+                                        : std::filesystem::path(options.out);
   std::filesystem::create_directories(dir);
   write_text(dir / "placement.json", sim::device_to_json(device));
   write_text(dir / "model.xml", sim::build_model_xml(device));
@@ -70,10 +71,13 @@ void run_personalize(const PersonalizeOptions& options, std::ostream& out) {
 
 void add_personalize_command(CLI::App& app, std::ostream& out) {
   auto options = std::make_shared<PersonalizeOptions>();
-  auto* command = app.add_subcommand(
-      "personalize", "Optimize all four fPAMs' placement for one user (arm dimensions, reference torques, pressure "
-                     "limit) and write the placement file and MuJoCo model (docs/personalize.md)");
-  command->add_option("--user", options->user, "User file (JSON, softwrist.user/1)")->required()->check(CLI::ExistingFile);
+  auto* command =
+      app.add_subcommand("personalize",
+                         "Optimize all four fPAMs' placement for one user (arm dimensions, reference torques, pressure "
+                         "limit) and write the placement file and MuJoCo model (docs/personalize.md)");
+  command->add_option("--user", options->user, "User file (JSON, softwrist.user/1)")
+      ->required()
+      ->check(CLI::ExistingFile);
   command->add_option("--out", options->out, "Output directory; default runs/<user file name>");
   command->add_option("--jobs", options->jobs, "Threads");
   command->callback([options, &out] { run_personalize(*options, out); });

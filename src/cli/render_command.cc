@@ -43,7 +43,9 @@ struct RenderOptions {
   int height = 480;
 };
 
-report::View view_named(const std::string& name) { return name == "palmar" ? report::View::kPalmar : report::View::kRadial; }
+report::View view_named(const std::string& name) {
+  return name == "palmar" ? report::View::kPalmar : report::View::kRadial;
+}
 
 void render_pose(const RenderOptions& options, std::ostream& out) {
   if (options.out.empty()) throw UsageError("render: --out PNG is required (or --run RUN_DIR)");
@@ -54,7 +56,8 @@ void render_pose(const RenderOptions& options, std::ostream& out) {
   report::WristPose pose{units::deg_to_rad(options.fe_deg), units::deg_to_rad(options.ur_deg), {}};
   for (std::size_t i = 0; i < 4; ++i) {
     if (!(pressures[i] >= 0.0 && pressures[i] <= max_kpa)) {
-      throw UsageError(fmt::format("--pressures-kpa: {} is outside the regulator's [0, {}] kPa", pressures[i], max_kpa));
+      throw UsageError(
+          fmt::format("--pressures-kpa: {} is outside the regulator's [0, {}] kPa", pressures[i], max_kpa));
     }
     pose.pressures_kpa[i] = pressures[i];
   }
@@ -64,7 +67,8 @@ void render_pose(const RenderOptions& options, std::ostream& out) {
 }
 
 void render_moments(const RenderOptions& options, std::ostream& out) {
-  const report::RunMoments run = report::run_moments(options.run, {.at_s = options.at_s, .case_index = options.case_index});
+  const report::RunMoments run =
+      report::run_moments(options.run, {.at_s = options.at_s, .case_index = options.case_index});
   if (run.moments.empty()) {
     out << fmt::format("{}: this run holds no wrist pose to render\n", options.run);
     return;
@@ -111,26 +115,32 @@ void render_video(const RenderOptions& options, std::ostream& out) {
 void add_render_command(CLI::App& app, std::ostream& out) {
   auto options = std::make_shared<RenderOptions>();
   auto* render = app.add_subcommand(
-      "render", "Render offscreen (OSMesa) to PNG, each muscle coloured by its pressure (blue 0, red max): a pose of "
-                "a device (--out), the moments of a run (--run), or a video of a tracking run (--run --video, ffmpeg)");
+      "render",
+      "Render offscreen (OSMesa) to PNG, each muscle coloured by its pressure (blue 0, red max): a pose of "
+      "a device (--out), the moments of a run (--run), or a video of a tracking run (--run --video, ffmpeg)");
   auto* placement = render->add_option("--placement", options->placement, "Placement file; default: the paper's device")
                         ->check(CLI::ExistingFile);
   auto* fe = render->add_option("--fe-deg", options->fe_deg, "Flexion (+) / extension (-) angle [deg]");
   auto* ur = render->add_option("--ur-deg", options->ur_deg, "Ulnar (+) / radial (-) deviation angle [deg]");
   auto* pressures =
       render->add_option("--pressures-kpa", options->pressures_kpa, "flexor,extensor,ulnar,radial pressures [kPa]");
-  render->add_option("--view", options->view,
-                     "radial (flexion/extension) or palmar (ulnar/radial); a run's moments choose their own")
+  render
+      ->add_option("--view", options->view,
+                   "radial (flexion/extension) or palmar (ulnar/radial); a run's moments choose their own")
       ->check(CLI::IsMember({"radial", "palmar"}));
   auto* png = render->add_option("--out", options->out, "Output PNG of the pose");
 
-  auto* run = render->add_option("--run", options->run, "A run directory (softwrist run --out)")->check(CLI::ExistingDirectory);
-  auto* at = render->add_option("--at", options->at_s, "Tracking runs: the instant nearest this time [s] instead of the "
-                                                        "extremes");
-  auto* case_index = render->add_option("--case", options->case_index, "Tracking runs: the case (controller, repetition)")
-                         ->check(CLI::NonNegativeNumber);
+  auto* run =
+      render->add_option("--run", options->run, "A run directory (softwrist run --out)")->check(CLI::ExistingDirectory);
+  auto* at = render->add_option("--at", options->at_s,
+                                "Tracking runs: the instant nearest this time [s] instead of the "
+                                "extremes");
+  auto* case_index =
+      render->add_option("--case", options->case_index, "Tracking runs: the case (controller, repetition)")
+          ->check(CLI::NonNegativeNumber);
   auto* out_dir = render->add_option("--out-dir", options->out_dir, "Where a run's PNGs go (default RUN_DIR/renders)");
-  auto* video = render->add_option("--video", options->video, "Tracking runs: write a video of the case (e.g. run.mp4)");
+  auto* video =
+      render->add_option("--video", options->video, "Tracking runs: write a video of the case (e.g. run.mp4)");
   auto* fps = render->add_option("--fps", options->fps, "Video frames per second")->check(CLI::Range(1.0, 120.0));
   auto* speed = render->add_option("--speed", options->speed, "Video playback speed (2: twice real time)")
                     ->check(CLI::Range(0.05, 100.0));

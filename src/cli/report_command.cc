@@ -21,8 +21,9 @@ struct ReportCommandOptions {
 void add_report_command(CLI::App& app, std::ostream& out) {
   auto options = std::make_shared<ReportCommandOptions>();
   auto* report = app.add_subcommand(
-      "report", "One HTML page of a run directory: what was run, metrics beside the paper's, plots (matplotlib), renders "
-                "(OSMesa)");
+      "report",
+      "One HTML page of a run directory: what was run, metrics beside the paper's, plots (matplotlib), renders "
+      "(OSMesa)");
   report->add_option("run_dir", options->run_dir, "A run directory (softwrist run --out)")->required();
   report->add_option("--out", options->out, "Where the page and its PNGs go (default RUN_DIR/report)");
   report->add_flag("--no-plots", options->no_plots, "Without plots (no python3-matplotlib needed)");

@@ -52,22 +52,24 @@ void run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   if (options.resume && options.overwrite) throw UsageError("--resume and --overwrite exclude each other");
   std::string command = fmt::format("softwrist run {} --out {}", options.config, dir.string());
   if (shard.second > 1) command += " --shard " + options.shard;
-  const auto result = experiments::run_experiment(
-      config, {.out = dir,
-               .existing = options.resume      ? experiments::ExistingRun::kResume
-                           : options.overwrite ? experiments::ExistingRun::kOverwrite
-                                               : experiments::ExistingRun::kRefuse,
-               .command = command,
-               .jobs = options.jobs > 0 ? options.jobs : default_jobs(),
-               .shard_index = shard.first,
-               .shard_count = shard.second,
-               .progress = options.quiet ? nullptr : &err});
-  if (result.cases_resumed > 0) out << fmt::format("{}: resumed: {} cases kept from the interrupted run\n", dir.string(), result.cases_resumed);
+  const auto result =
+      experiments::run_experiment(config, {.out = dir,
+                                           .existing = options.resume      ? experiments::ExistingRun::kResume
+                                                       : options.overwrite ? experiments::ExistingRun::kOverwrite
+                                                                           : experiments::ExistingRun::kRefuse,
+                                           .command = command,
+                                           .jobs = options.jobs > 0 ? options.jobs : default_jobs(),
+                                           .shard_index = shard.first,
+                                           .shard_count = shard.second,
+                                           .progress = options.quiet ? nullptr : &err});
+  if (result.cases_resumed > 0)
+    out << fmt::format("{}: resumed: {} cases kept from the interrupted run\n", dir.string(), result.cases_resumed);
   print_done(out, dir, result);
   if (!result.complete) {
-    out << fmt::format("shard {}/{}: when all shards are done, join them with\n  softwrist merge --out runs/{} "
-                       "runs/{}-shard-*-of-{}\n",
-                       shard.first, shard.second, config.name, config.name, shard.second);
+    out << fmt::format(
+        "shard {}/{}: when all shards are done, join them with\n  softwrist merge --out runs/{} "
+        "runs/{}-shard-*-of-{}\n",
+        shard.first, shard.second, config.name, config.name, shard.second);
   }
 }
 
@@ -90,10 +92,13 @@ void add_run_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   run_command->callback([options, &out, &err] { run(*options, out, err); });
 
   auto merge_options = std::make_shared<MergeOptions>();
-  auto* merge = app.add_subcommand("merge", "Join the run directories of an experiment's shards into one run and "
-                                            "write its summary");
+  auto* merge = app.add_subcommand("merge",
+                                   "Join the run directories of an experiment's shards into one run and "
+                                   "write its summary");
   merge->add_option("--out", merge_options->out, "Merged run directory")->required();
-  merge->add_option("shards", merge_options->shards, "The shards' run directories")->required()->check(CLI::ExistingDirectory);
+  merge->add_option("shards", merge_options->shards, "The shards' run directories")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   merge->callback([merge_options, &out] {
     std::vector<std::filesystem::path> dirs(merge_options->shards.begin(), merge_options->shards.end());
     print_done(out, merge_options->out, experiments::merge_runs(dirs, merge_options->out));

@@ -30,14 +30,17 @@ void run_view(const ViewOptions& options, std::ostream& out) {
   const sim::Model model = options.model_file.empty()
                                ? sim::Model::FromXml(sim::build_model_xml(device), plugins, "the generated model")
                                : sim::Model::FromFile(options.model_file, plugins);
-  viewer::ViewerOptions viewer{.width = options.width, .height = options.height, .frames = options.frames,
+  viewer::ViewerOptions viewer{.width = options.width,
+                               .height = options.height,
+                               .frames = options.frames,
                                .screenshot = options.screenshot,
                                .default_max_kpa = units::pa_to_kpa(device.regulator.max_pressure)};
   if (!options.pressures_kpa.empty()) {
     const auto pressures = parse_numbers(options.pressures_kpa, static_cast<std::size_t>(model->nu), "--pressures-kpa");
     for (std::size_t i = 0; i < pressures.size(); ++i) {
       if (pressures[i] < 0.0 || pressures[i] > viewer.default_max_kpa) {
-        throw UsageError(fmt::format("--pressures-kpa: {} is outside [0, {}] kPa", pressures[i], viewer.default_max_kpa));
+        throw UsageError(
+            fmt::format("--pressures-kpa: {} is outside [0, {}] kPa", pressures[i], viewer.default_max_kpa));
       }
       viewer.initial_commands_kpa[static_cast<int>(i)] = pressures[i];
     }
@@ -52,10 +55,12 @@ void run_view(const ViewOptions& options, std::ostream& out) {
 void add_view_command(CLI::App& app, std::ostream& out) {
   auto options = std::make_shared<ViewOptions>();
   auto* view = app.add_subcommand(
-      "view", "Interactive viewer (GLFW): drag to orbit, 1-9 select a muscle, Up/Down its pressure, 0 vent, Space "
-              "pause, Backspace reset, V view, Esc quit");
-  auto* model = view->add_option("model", options->model_file, "An MJCF model (default: the generated model of the "
-                                                               "paper's device, or of --placement)")
+      "view",
+      "Interactive viewer (GLFW): drag to orbit, 1-9 select a muscle, Up/Down its pressure, 0 vent, Space "
+      "pause, Backspace reset, V view, Esc quit");
+  auto* model = view->add_option("model", options->model_file,
+                                 "An MJCF model (default: the generated model of the "
+                                 "paper's device, or of --placement)")
                     ->check(CLI::ExistingFile);
   view->add_option("--placement", options->placement, "Placement file whose generated model to view")
       ->check(CLI::ExistingFile)

@@ -70,9 +70,8 @@ Pressures ModelBasedController::command(double t_s, const Reference& desired, co
     }
     // The desired rate enters too, so that a smooth trajectory passes with an error of order (omega / w)^2
     // instead of lagging by 2 omega / w; at the range's edge the target stands still.
-    const double target_rate = unreachable_[static_cast<std::size_t>(i)]
-                                   ? 0.0
-                                   : units::deg_to_rad(angle_deg(desired.rate_deg_s, i));
+    const double target_rate =
+        unreachable_[static_cast<std::size_t>(i)] ? 0.0 : units::deg_to_rad(angle_deg(desired.rate_deg_s, i));
     const double acceleration = w * w * (target - s.reference) + 2.0 * w * (target_rate - s.reference_rate);
     s.reference_rate += acceleration * dt;
     s.reference += s.reference_rate * dt;
@@ -88,8 +87,7 @@ Pressures ModelBasedController::command(double t_s, const Reference& desired, co
     const physics::AxisTorques relaxed = physics::axis_torques(wrist_, axis, ahead, 0.0, 0.0);
     const double feedforward = -(relaxed.passive + relaxed.gravity);
     const double error = s.reference - measured;
-    const double feedback =
-        p.kp_nm_per_rad * error + s.integral + p.kd_nms_per_rad * (s.reference_rate - s.velocity);
+    const double feedback = p.kp_nm_per_rad * error + s.integral + p.kd_nms_per_rad * (s.reference_rate - s.velocity);
     const PairPressures pair = allocate_pair_pressures(wrist_, axis, ahead, feedforward + feedback,
                                                        units::kpa_to_pa(p.co_contraction_kpa), max_pressure);
     const bool pushing_into_saturation = (pair.saturated > 0 && error > 0.0) || (pair.saturated < 0 && error < 0.0);

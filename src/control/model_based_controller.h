@@ -18,17 +18,17 @@
 // falls as the wrist moves their way) holds the wrist at the reference as a spring would, and the PID only corrects
 // what the model misses.
 
-#include "physics/exosuit_layout.h"
 #include "control/controller.h"
+#include "physics/exosuit_layout.h"
 #include "physics/wrist_statics.h"
 
 namespace softwrist::control {
 
 struct ModelBasedParameters {
-  double period_s = 0.014;                 // the paper's loop period
+  double period_s = 0.014;                             // the paper's loop period
   double max_kpa = physics::kRegulatorMaxPressureKpa;  // regulator range
-  double co_contraction_kpa = 5.0;         // both muscles of a pair at zero demand
-  double reference_bandwidth_rad_s = 6.0;  // w of the reference filter: 10-90 % in 0.56 s
+  double co_contraction_kpa = 5.0;                     // both muscles of a pair at zero demand
+  double reference_bandwidth_rad_s = 6.0;              // w of the reference filter: 10-90 % in 0.56 s
   double kp_nm_per_rad = 0.5;
   double ki_nm_per_rad_s = 5.0;
   double kd_nms_per_rad = 0.02;
@@ -56,8 +56,8 @@ class ModelBasedController final : public Controller {
  private:
   struct AxisState {
     double reference = 0.0, reference_rate = 0.0;  // [rad], [rad/s]
-    double last_angle = 0.0, velocity = 0.0;        // IMU angle [rad] and its filtered rate [rad/s]
-    double integral = 0.0;                          // [N m]
+    double last_angle = 0.0, velocity = 0.0;       // IMU angle [rad] and its filtered rate [rad/s]
+    double integral = 0.0;                         // [N m]
   };
   physics::WristModel wrist_;
   ModelBasedParameters parameters_;

@@ -5,8 +5,8 @@
 // antagonist's pressure falls twice as fast while it is above 13.8 kPa; all muscles start at 13.8 kPa; pressures
 // stay within the regulators' range. Pure: no plant, no clock.
 
-#include "physics/exosuit_layout.h"
 #include "control/controller.h"
+#include "physics/exosuit_layout.h"
 
 namespace softwrist::control {
 

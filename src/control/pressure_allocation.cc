@@ -8,7 +8,8 @@ PairPressures pressures_on_path(double s, double co_contraction, double max_pres
   s = std::clamp(s, -1.0, 1.0);
   const double rise = co_contraction + std::abs(s) * (max_pressure - co_contraction);
   const double fall = co_contraction * (1.0 - std::abs(s));
-  return s >= 0.0 ? PairPressures{.agonist = rise, .antagonist = fall} : PairPressures{.agonist = fall, .antagonist = rise};
+  return s >= 0.0 ? PairPressures{.agonist = rise, .antagonist = fall}
+                  : PairPressures{.agonist = fall, .antagonist = rise};
 }
 
 PairPressures allocate_pair_pressures(const physics::WristModel& wrist, physics::WristAxis axis, double angle,

@@ -17,8 +17,10 @@ class ReachWatch {
     constexpr double kAtLimitKpa = 0.5;
     const double pulling = error_deg > 0.0 ? positive_kpa : negative_kpa;
     const bool stuck = std::abs(error_deg) > tolerance_deg_ && pulling >= max_kpa - kAtLimitKpa;
-    if (!stuck) since_ = -1.0;
-    else if (since_ < 0.0) since_ = t_s;
+    if (!stuck)
+      since_ = -1.0;
+    else if (since_ < 0.0)
+      since_ = t_s;
     return stuck && t_s - since_ >= dwell_s_;
   }
 
@@ -31,9 +33,10 @@ void stop_if_out_of_range(Plant& plant, const Controller& controller, double t, 
   for (std::size_t i = 0; i < 4; ++i) {
     if (std::isfinite(command[i]) && command[i] >= 0.0 && command[i] <= plant.max_pressure_kpa()) continue;
     plant.command_pressures_kpa({0.0, 0.0, 0.0, 0.0});
-    throw ControllerFault(fmt::format("controller '{}' asked for {} kPa on the {} at t = {:.3f} s, outside the "
-                                      "regulators' 0-{} kPa: vented and stopped",
-                                      controller.name(), command[i], kMuscleNames[i], t, plant.max_pressure_kpa()));
+    throw ControllerFault(
+        fmt::format("controller '{}' asked for {} kPa on the {} at t = {:.3f} s, outside the "
+                    "regulators' 0-{} kPa: vented and stopped",
+                    controller.name(), command[i], kMuscleNames[i], t, plant.max_pressure_kpa()));
   }
 }
 
@@ -65,7 +68,8 @@ long run_tracking(Plant& plant, Controller& controller, const Trajectory& trajec
     sample.reading.angles.ur_deg -= zero.ur_deg;
     sample.reading.time_s -= start;
     sample.command = controller.command(t, sample.desired, sample.reading);
-    if (options.out_of_range == TrackingOptions::OutOfRange::kStop) stop_if_out_of_range(plant, controller, t, sample.command);
+    if (options.out_of_range == TrackingOptions::OutOfRange::kStop)
+      stop_if_out_of_range(plant, controller, t, sample.command);
     for (std::size_t i = 0; i < 4; ++i) {
       const double p = options.active_axes[i / 2] ? sample.command[i] : 0.0;
       sample.command[i] = std::isfinite(p) ? std::clamp(p, 0.0, max_kpa) : 0.0;

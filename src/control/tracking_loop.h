@@ -40,10 +40,10 @@ struct TrackingOptions {
 };
 
 struct TrackingSample {
-  double t_s = 0.0;       // from the start of the run
+  double t_s = 0.0;  // from the start of the run
   Reference desired;
-  ImuReading reading;     // zeroed
-  Pressures command{};    // as sent to the plant (within its range)
+  ImuReading reading;   // zeroed
+  Pressures command{};  // as sent to the plant (within its range)
   AxisFlags unreachable{false, false};
 };
 

@@ -14,7 +14,7 @@ struct StepResponse {
 };
 
 struct StepResponseOptions {
-  double smoothing_s = 0.05;    // centred moving average against IMU noise before the crossings and the peak
+  double smoothing_s = 0.05;  // centred moving average against IMU noise before the crossings and the peak
   double final_window_s = 2.0;
 };
 

@@ -132,7 +132,8 @@ std::string inject(const std::string& injected, SyntheticDevice& real, Draw& dra
     return fmt::format("dry friction {:.2f} N along each muscle's path over the wrist", real.wrap_friction_n);
   }
   if (injected == kNoEffect) return "device-to-device variations only";
-  throw std::invalid_argument(fmt::format("'{}' is not a benchmark case ({})", injected, fmt::join(bench_case_names(), ", ")));
+  throw std::invalid_argument(
+      fmt::format("'{}' is not a benchmark case ({})", injected, fmt::join(bench_case_names(), ", ")));
 }
 
 // The fraction of the runs `of_case` picks whose verdict is `right` (NaN without such runs).
@@ -225,8 +226,10 @@ BenchResult run_benchmark(const sim::DeviceDescription& nominal, const BenchOpti
       // The paper's case: the paper's device (its stretching included), the nominal without stretching.
       sim::DeviceDescription rigid = nominal;
       rigid.stretch_mode = physics::StretchMode::kNone;
-      const Diagnosis d = diagnose_synthetic({.device = nominal}, rigid, options.plan, options, options.scratch / "paper_case");
-      PaperCaseResult p{.verdict = d.verdict, .torque_mae_before_nm = torque_mae(d, false),
+      const Diagnosis d =
+          diagnose_synthetic({.device = nominal}, rigid, options.plan, options, options.scratch / "paper_case");
+      PaperCaseResult p{.verdict = d.verdict,
+                        .torque_mae_before_nm = torque_mae(d, false),
                         .torque_mae_after_nm = torque_mae(d, true)};
       if (!d.combination.empty() && d.combination.front().id == EffectId::kMountStretch) {
         p.k_series_n_per_cm2 = d.combination.front().values.at(0);
@@ -240,8 +243,12 @@ BenchResult run_benchmark(const sim::DeviceDescription& nominal, const BenchOpti
     const Diagnosis d =
         diagnose_synthetic(c.real, nominal, plan, options, options.scratch / fmt::format("{}_{}", c.injected, c.seed));
     result.runs[static_cast<std::size_t>(k)] = {
-        .injected = c.injected, .magnitude = c.magnitude, .verdict = d.verdict, .seed = c.seed,
-        .heldout_before = d.heldout_nominal, .heldout_after = d.heldout_corrected,
+        .injected = c.injected,
+        .magnitude = c.magnitude,
+        .verdict = d.verdict,
+        .seed = c.seed,
+        .heldout_before = d.heldout_nominal,
+        .heldout_after = d.heldout_corrected,
         .shrink_fraction = d.gap_closed(),
         .wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count()};
   });
@@ -273,22 +280,29 @@ nlohmann::json to_json(const BenchResult& result) {
   j["mean_shrink_fraction"] = number(result.mean_shrink_fraction);
   j["none_correct_rate"] = number(result.none_correct_rate);
   j["unexplained_correct_rate"] = number(result.unexplained_correct_rate);
-  j["targets"] = {{"top1_accuracy", kTop1Target}, {"mean_shrink_fraction", kShrinkTarget},
-                  {"none_correct_rate", kNoneTarget}, {"unexplained_correct_rate", kUnexplainedTarget}};
+  j["targets"] = {{"top1_accuracy", kTop1Target},
+                  {"mean_shrink_fraction", kShrinkTarget},
+                  {"none_correct_rate", kNoneTarget},
+                  {"unexplained_correct_rate", kUnexplainedTarget}};
   j["confusion"] = nlohmann::json::object();
   for (const auto& [injected, verdicts] : result.confusion) {
     for (const auto& [verdict, count] : verdicts) j["confusion"][injected][verdict] = count;
   }
   j["runs"] = nlohmann::json::array();
   for (const auto& r : result.runs) {
-    j["runs"].push_back({{"injected", r.injected}, {"seed", r.seed}, {"magnitude", r.magnitude},
-                         {"verdict", r.verdict}, {"heldout_error_before", r.heldout_before},
-                         {"heldout_error_after", r.heldout_after}, {"shrink_fraction", r.shrink_fraction},
+    j["runs"].push_back({{"injected", r.injected},
+                         {"seed", r.seed},
+                         {"magnitude", r.magnitude},
+                         {"verdict", r.verdict},
+                         {"heldout_error_before", r.heldout_before},
+                         {"heldout_error_after", r.heldout_after},
+                         {"shrink_fraction", r.shrink_fraction},
                          {"wall_s", r.wall_s}});
   }
   if (result.paper_case) {
     const auto& p = *result.paper_case;
-    j["paper_case"] = {{"verdict", p.verdict}, {"torque_mae_before_nm", p.torque_mae_before_nm},
+    j["paper_case"] = {{"verdict", p.verdict},
+                       {"torque_mae_before_nm", p.torque_mae_before_nm},
                        {"torque_mae_after_nm", p.torque_mae_after_nm},
                        {"mae_factor", number(p.torque_mae_before_nm / p.torque_mae_after_nm)},
                        {"k_series_n_per_cm2", p.k_series_n_per_cm2},

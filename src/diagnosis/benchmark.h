@@ -34,7 +34,7 @@ inline constexpr const char* kOutsideEffect = "wrap_friction";
 std::vector<std::string> bench_case_names();
 
 struct BenchCase {
-  std::string injected;   // a catalogue effect, kNoEffect or kOutsideEffect
+  std::string injected;  // a catalogue effect, kNoEffect or kOutsideEffect
   std::uint64_t seed = 0;
   SyntheticDevice real;
   std::string magnitude;  // what was injected, in words and numbers
@@ -46,9 +46,9 @@ BenchCase make_bench_case(const std::string& injected, std::uint64_t seed, const
                           double variation = 1.0);
 
 struct BenchOptions {
-  int seeds = 5;                  // per case
+  int seeds = 5;  // per case
   std::uint64_t first_seed = 1;
-  int jobs = 2;                   // data sets diagnosed in parallel (each diagnosis on one thread)
+  int jobs = 2;                    // data sets diagnosed in parallel (each diagnosis on one thread)
   std::vector<std::string> cases;  // all of bench_case_names() when empty
   SyntheticPlan plan{.repetitions = 2, .trajectory_s = 24.0};
   DiagnosisOptions diagnosis{.jobs = 1, .bootstrap = 100};
@@ -75,10 +75,10 @@ struct PaperCaseResult {
 struct BenchResult {
   std::vector<BenchRun> runs;
   std::map<std::string, std::map<std::string, int>> confusion;  // injected -> verdict -> count
-  double top1_accuracy = 0.0;         // single catalogue effects named first
-  double mean_shrink_fraction = 0.0;  // over the single catalogue effects
-  double none_correct_rate = 0.0;     // "none" on the no-effect case
-  double unexplained_correct_rate = 0.0;  // "unexplained" on the outside case
+  double top1_accuracy = 0.0;                                   // single catalogue effects named first
+  double mean_shrink_fraction = 0.0;                            // over the single catalogue effects
+  double none_correct_rate = 0.0;                               // "none" on the no-effect case
+  double unexplained_correct_rate = 0.0;                        // "unexplained" on the outside case
   std::optional<PaperCaseResult> paper_case;
   double wall_s = 0.0;
 };

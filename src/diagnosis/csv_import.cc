@@ -22,12 +22,14 @@ struct KindSpec {
 };
 
 KindSpec kind_spec(const std::string& kind) {
-  if (kind == "torque-sweep") return {"torque_sweep", {"angle_deg", "pressure_kpa", "torque_nm"}, {"repetition", "muscle"}};
+  if (kind == "torque-sweep")
+    return {"torque_sweep", {"angle_deg", "pressure_kpa", "torque_nm"}, {"repetition", "muscle"}};
   if (kind == "rom") return {"range_of_motion", {"muscle", "pressure_kpa", "limit_deg"}, {"repetition"}};
   if (kind == "tensile") return {"tensile", {"pressure_kpa", "contraction", "force_n"}, {"direction", "cycle"}};
   if (kind == "trajectory") {
     return {"trajectory",
-            {"t_s", "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa", "angle_fe_deg", "angle_ur_deg"},
+            {"t_s", "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa", "angle_fe_deg",
+             "angle_ur_deg"},
             {"case", "p_flexor_kpa", "p_extensor_kpa", "p_ulnar_kpa", "p_radial_kpa"}};
   }
   throw std::runtime_error(fmt::format("--kind: '{}' is not torque-sweep, rom, tensile or trajectory", kind));
@@ -90,19 +92,25 @@ experiments::TrialLog import_table(const io::CsvTable& table, const ImportOption
   std::vector<experiments::Column> columns;
   std::vector<std::string> log_names;
   for (const std::string& name : names) {
-    std::string log_name = name == "angle_fe_deg" ? "measured_fe_deg" : name == "angle_ur_deg" ? "measured_ur_deg" : name;
+    std::string log_name = name == "angle_fe_deg"   ? "measured_fe_deg"
+                           : name == "angle_ur_deg" ? "measured_ur_deg"
+                                                    : name;
     const auto underscore = log_name.rfind('_');
     const std::string suffix = underscore == std::string::npos ? "" : log_name.substr(underscore + 1);
-    const std::string unit = suffix == "deg" ? "deg" : suffix == "kpa" ? "kPa" : suffix == "nm" ? "N m" : suffix == "n" ? "N"
-                             : suffix == "s" ? "s" : "";
+    const std::string unit = suffix == "deg"   ? "deg"
+                             : suffix == "kpa" ? "kPa"
+                             : suffix == "nm"  ? "N m"
+                             : suffix == "n"   ? "N"
+                             : suffix == "s"   ? "s"
+                                               : "";
     columns.push_back({log_name, unit, "imported from " + name});
     log_names.push_back(log_name);
   }
-  const nlohmann::json config = {{"import_kind", options.kind}, {"hand_supported", options.hand_supported},
-                                 {"muscle", options.muscle}};
-  experiments::TrialLog log{.header = {.kind = spec.log_kind, .source = "import", .config = config,
-                                       .columns = columns, .case_count = 1},
-                            .table = table.select(source_columns, log_names)};
+  const nlohmann::json config = {
+      {"import_kind", options.kind}, {"hand_supported", options.hand_supported}, {"muscle", options.muscle}};
+  experiments::TrialLog log{
+      .header = {.kind = spec.log_kind, .source = "import", .config = config, .columns = columns, .case_count = 1},
+      .table = table.select(source_columns, log_names)};
   // What the diagnosis reads from the log is checked here, against the user's lines (times that do not increase,
   // pressures beyond the regulators, too few rows).
   (void)trials_from_log(log, "import");
@@ -113,7 +121,8 @@ ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOp
   kind_spec(options.kind);  // an unknown kind before the file
   experiments::TrialLog log = import_table(io::CsvTable::Read(csv), options);
   if (fs::exists(out / "trials.csv") && !options.overwrite) {
-    throw std::runtime_error(fmt::format("{}: already holds a log; choose another --out or give --overwrite", out.string()));
+    throw std::runtime_error(
+        fmt::format("{}: already holds a log; choose another --out or give --overwrite", out.string()));
   }
   log.header.config["imported_from"] = fs::absolute(csv).string();
   // Written to a scratch directory and moved in place, so that a failed write leaves no half log behind.
@@ -125,7 +134,8 @@ ImportResult import_csv(const fs::path& csv, const fs::path& out, const ImportOp
       experiments::LogWriter writer(scratch, "trials", log.header);
       for (std::size_t r = 0; r < log.table.row_count(); ++r) {
         std::vector<std::string> cells;
-        for (std::size_t c = 0; c < log.table.header().size(); ++c) cells.push_back(log.table.cell(r, static_cast<int>(c)));
+        for (std::size_t c = 0; c < log.table.header().size(); ++c)
+          cells.push_back(log.table.cell(r, static_cast<int>(c)));
         writer.write_row(cells);
       }
     }

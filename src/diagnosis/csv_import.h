@@ -11,8 +11,8 @@
 namespace softwrist::diagnosis {
 
 struct ImportOptions {
-  std::string kind;             // torque-sweep, rom, tensile, trajectory
-  bool hand_supported = false;  // trajectories and range of motion: a table carried the hand (no gravity)
+  std::string kind;               // torque-sweep, rom, tensile, trajectory
+  bool hand_supported = false;    // trajectories and range of motion: a table carried the hand (no gravity)
   std::string muscle = "flexor";  // torque sweeps without a muscle column
   bool overwrite = false;
 };
@@ -29,6 +29,7 @@ experiments::TrialLog import_table(const io::CsvTable& table, const ImportOption
 
 // Reads `csv`, checks every required column (with its unit) and every cell, and writes OUT/trials.csv and .json.
 // Throws std::runtime_error naming the file, line and column of the first problem; writes nothing then.
-ImportResult import_csv(const std::filesystem::path& csv, const std::filesystem::path& out, const ImportOptions& options);
+ImportResult import_csv(const std::filesystem::path& csv, const std::filesystem::path& out,
+                        const ImportOptions& options);
 
 }  // namespace softwrist::diagnosis

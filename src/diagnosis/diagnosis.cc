@@ -15,8 +15,9 @@ namespace softwrist::diagnosis {
 namespace {
 
 std::runtime_error nothing_left(const Diagnosis& d) {
-  return std::runtime_error(d.problems.empty() ? std::string("no trial logs found to diagnose (softwrist.log/1 sidecars)")
-                                               : "no trial left to diagnose (see the problems listed above)");
+  return std::runtime_error(d.problems.empty()
+                                ? std::string("no trial logs found to diagnose (softwrist.log/1 sidecars)")
+                                : "no trial left to diagnose (see the problems listed above)");
 }
 
 // Trials the model cannot replay are reported and left out; so is a trial whose noise cannot be estimated (constant
@@ -36,8 +37,8 @@ void prepare_trials(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nomi
   d.prepared = prepare(d.data, engine, nominal);
   for (auto it = d.prepared.begin(); it != d.prepared.end();) {
     if (!(it->noise > 0.0)) {
-      d.problems.push_back({it->trial->file, fmt::format("{}: its repeat-to-repeat noise is zero; it cannot be weighed",
-                                                         it->name)});
+      d.problems.push_back(
+          {it->trial->file, fmt::format("{}: its repeat-to-repeat noise is zero; it cannot be weighed", it->name)});
       it = d.prepared.erase(it);
     } else {
       ++it;
@@ -66,8 +67,13 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
   for (std::size_t t = 0; t < prepared.size(); ++t) {
     const LocalizationEntry e = trial_test(prepared[t], residuals[t]);
     const PreparedTrial& p = prepared[t];
-    TrialGap gap{.experiment = p.name, .kind = p.trial->kind, .unit = p.unit, .noise = p.noise,
-                 .noise_source = p.noise_source, .p_value = e.p_value, .significant = e.p_value < trial_alpha,
+    TrialGap gap{.experiment = p.name,
+                 .kind = p.trial->kind,
+                 .unit = p.unit,
+                 .noise = p.noise,
+                 .noise_source = p.noise_source,
+                 .p_value = e.p_value,
+                 .significant = e.p_value < trial_alpha,
                  .points = p.points.size()};
     gap.rms_nominal = rms(residuals[t]);
     gaps.push_back(gap);
@@ -126,9 +132,9 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
       tries.resize(count);
       const BaseModel current{.variant = c.model, .training = current_training, .full = c.full};
       parallel_for(static_cast<int>(count), options.jobs, [&](int k) {
-        tries[static_cast<std::size_t>(k)] = fit_effect(problem, candidates[static_cast<std::size_t>(k)], current,
-                                                        nominal_device, options,
-                                                        round_seed + static_cast<std::uint64_t>(k));
+        tries[static_cast<std::size_t>(k)] =
+            fit_effect(problem, candidates[static_cast<std::size_t>(k)], current, nominal_device, options,
+                       round_seed + static_cast<std::uint64_t>(k));
       });
       round_seed += 100;
     }
@@ -164,23 +170,26 @@ void decide_verdict(Diagnosis& d, bool gap_significant, const DiagnosisOptions& 
   const double closed = d.gap_closed();
   if (!gap_significant) {
     d.verdict = "none";
-    d.reason = fmt::format("no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, "
-                           "alpha {} over {} trials)", options.alpha, d.prepared.size());
+    d.reason = fmt::format(
+        "no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, "
+        "alpha {} over {} trials)",
+        options.alpha, d.prepared.size());
   } else if (d.heldout_nominal < options.min_gap) {
     d.verdict = "none";
-    d.reason = fmt::format("the nominal model's systematic residual is {:.2f} of the noise on held-out data (below "
-                           "{}): detectable in this much data, but within the noise of a measurement",
-                           d.heldout_nominal, options.min_gap);
+    d.reason = fmt::format(
+        "the nominal model's systematic residual is {:.2f} of the noise on held-out data (below "
+        "{}): detectable in this much data, but within the noise of a measurement",
+        d.heldout_nominal, options.min_gap);
   } else if (!d.combination.empty() && closed >= options.explained_fraction) {
     d.verdict = d.combination.front().name;
     d.reason = fmt::format("{} closes {:.0f} % of the held-out gap on its own ({:.0f} % with the combination)",
                            d.combination.front().name, 100.0 * d.combination.front().shrink_fraction, 100.0 * closed);
   } else {
     d.verdict = "unexplained";
-    d.reason = d.combination.empty()
-                   ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
-                   : fmt::format("the gap is significant and the best combination closes only {:.0f} % of it",
-                                 100.0 * closed);
+    d.reason =
+        d.combination.empty()
+            ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
+            : fmt::format("the gap is significant and the best combination closes only {:.0f} % of it", 100.0 * closed);
   }
 }
 

@@ -27,14 +27,14 @@ namespace softwrist::diagnosis {
 inline constexpr const char* kErrorMetric = "excess_rms_over_noise";
 
 struct DiagnosisOptions {
-  std::vector<EffectId> effects;   // empty: the whole catalogue
-  int jobs = 2;                    // effects fitted in parallel
-  int bootstrap = 200;             // resamples of the held-out units
+  std::vector<EffectId> effects;  // empty: the whole catalogue
+  int jobs = 2;                   // effects fitted in parallel
+  int bootstrap = 200;            // resamples of the held-out units
   std::uint64_t seed = 1;
-  int max_evaluations = 50;        // per fit, after the start grid
-  double alpha = 0.01;             // significance of the gap tests (before Bonferroni)
-  double parameter_penalty = 0.03; // subtracted from an effect's shrink fraction per fitted parameter when ranking
-  double min_gain = 0.1;           // an effect joins the combination if it cuts the held-out error by this fraction
+  int max_evaluations = 50;         // per fit, after the start grid
+  double alpha = 0.01;              // significance of the gap tests (before Bonferroni)
+  double parameter_penalty = 0.03;  // subtracted from an effect's shrink fraction per fitted parameter when ranking
+  double min_gain = 0.1;            // an effect joins the combination if it cuts the held-out error by this fraction
   // The verdict names an effect when the combination closes this much of the gap (Diagnosis::gap_closed). Set from
   // the withheld-effect benchmark's calibration seeds 1001-1005 (diagnose-bench --first-seed 1001), not the reported
   // seeds 1-5: single catalogue effects closed 0.63 to 0.99 of their gap, friction at the wrap (outside the
@@ -70,7 +70,7 @@ struct TrialGap {
   double noise = 0.0;
   std::string noise_source;
   double rms_nominal = 0.0, rms_corrected = 0.0;  // all its measurements
-  double p_value = 1.0;  // of its nominal residual being noise alone (localization's "all")
+  double p_value = 1.0;                           // of its nominal residual being noise alone (localization's "all")
   bool significant = false;
   std::size_t points = 0;
 };
@@ -78,8 +78,8 @@ struct TrialGap {
 struct Diagnosis {
   std::string verdict;  // an effect's name, "none" or "unexplained"
   std::string reason;
-  std::vector<EffectFit> effects;      // each effect alone on the nominal model, best first
-  std::vector<EffectFit> combination;  // the greedy combination, in the order the effects joined
+  std::vector<EffectFit> effects;                         // each effect alone on the nominal model, best first
+  std::vector<EffectFit> combination;                     // the greedy combination, in the order the effects joined
   double heldout_nominal = 0.0, heldout_corrected = 0.0;  // all trials
   // The same over the trials whose nominal gap is significant, and the fraction of it the combination closes: what
   // the verdict weighs.

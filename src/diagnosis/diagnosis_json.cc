@@ -42,17 +42,28 @@ nlohmann::json to_json(const Diagnosis& d) {
   for (const auto& f : d.combination) j["combination"].push_back(effect_json(f));
   j["localization"] = nlohmann::json::array();
   for (const auto& e : d.localization) {
-    nlohmann::json entry{{"experiment", e.experiment}, {"where", e.where},  {"residual", e.residual},
-                         {"noise", e.noise},           {"unit", e.unit},    {"p_value", e.p_value},
-                         {"significant", e.significant}, {"count", e.count}};
+    nlohmann::json entry{{"experiment", e.experiment},
+                         {"where", e.where},
+                         {"residual", e.residual},
+                         {"noise", e.noise},
+                         {"unit", e.unit},
+                         {"p_value", e.p_value},
+                         {"significant", e.significant},
+                         {"count", e.count}};
     j["localization"].push_back(entry);
   }
   j["trials"] = nlohmann::json::array();
   for (const auto& t : d.trials) {
-    j["trials"].push_back({{"experiment", t.experiment}, {"kind", to_string(t.kind)}, {"unit", t.unit},
-                           {"noise", t.noise}, {"noise_source", t.noise_source}, {"rms_nominal", t.rms_nominal},
-                           {"rms_corrected", t.rms_corrected}, {"p_value", t.p_value},
-                           {"significant", t.significant}, {"points", t.points}});
+    j["trials"].push_back({{"experiment", t.experiment},
+                           {"kind", to_string(t.kind)},
+                           {"unit", t.unit},
+                           {"noise", t.noise},
+                           {"noise_source", t.noise_source},
+                           {"rms_nominal", t.rms_nominal},
+                           {"rms_corrected", t.rms_corrected},
+                           {"p_value", t.p_value},
+                           {"significant", t.significant},
+                           {"points", t.points}});
   }
   j["skipped"] = nlohmann::json::array();
   for (const auto& p : d.problems) j["skipped"].push_back({{"file", p.file}, {"reason", p.reason}});

@@ -52,9 +52,10 @@ std::string effect_rows(const std::vector<EffectFit>& fits) {
       rows += fmt::format("<tr><td>{}</td><td colspan=5>no data it acts on</td></tr>\n", html_escape(f.name));
       continue;
     }
-    rows += fmt::format("<tr><td>{}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.0f} %</td><td>[{:.0f}, {:.0f}] %</td><td>{}</td></tr>\n",
-                        html_escape(f.name), f.heldout_error_before, f.heldout_error_after, 100 * f.shrink_fraction,
-                        100 * f.ci_low, 100 * f.ci_high, params);
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.0f} %</td><td>[{:.0f}, {:.0f}] %</td><td>{}</td></tr>\n",
+        html_escape(f.name), f.heldout_error_before, f.heldout_error_after, 100 * f.shrink_fraction, 100 * f.ci_low,
+        100 * f.ci_high, params);
   }
   return rows;
 }
@@ -79,9 +80,10 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
 
   std::string trials;
   for (const auto& t : d.trials) {
-    trials += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4g} {}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:.2g}{}</td></tr>\n",
-                          html_escape(t.experiment), to_string(t.kind), t.noise, html_escape(t.unit), t.rms_nominal,
-                          t.rms_corrected, t.p_value, t.significant ? " (significant)" : "");
+    trials += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{:.4g} {}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:.2g}{}</td></tr>\n",
+        html_escape(t.experiment), to_string(t.kind), t.noise, html_escape(t.unit), t.rms_nominal, t.rms_corrected,
+        t.p_value, t.significant ? " (significant)" : "");
   }
   std::string where;
   int shown = 0;
@@ -92,9 +94,11 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
                          e.significant ? "yes," : "no,", e.p_value);
   }
   std::string skipped;
-  for (const auto& p : d.problems) skipped += fmt::format("<li>{}: {}</li>\n", html_escape(p.file), html_escape(p.reason));
+  for (const auto& p : d.problems)
+    skipped += fmt::format("<li>{}: {}</li>\n", html_escape(p.file), html_escape(p.reason));
   std::string images;
-  for (const auto& plot : result.plots) images += fmt::format("<figure><img src=\"{}\" alt=\"{}\"></figure>\n", plot, plot);
+  for (const auto& plot : result.plots)
+    images += fmt::format("<figure><img src=\"{}\" alt=\"{}\"></figure>\n", plot, plot);
 
   std::ofstream page(result.page);
   page << fmt::format(R"(<!DOCTYPE html>
@@ -124,8 +128,8 @@ td,th{{border:1px solid #ccc;padding:3px 6px;font-size:13px}} img{{max-width:100
 )",
                       html_escape(d.verdict), html_escape(d.reason), kErrorMetric, d.heldout_nominal,
                       d.heldout_corrected, d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed(),
-                      d.remaining_gap_significant ? "yes" : "no", effect_rows(d.effects),
-                      effect_rows(d.combination), trials, where, images.empty() ? "<p>(no plots)</p>" : images,
+                      d.remaining_gap_significant ? "yes" : "no", effect_rows(d.effects), effect_rows(d.combination),
+                      trials, where, images.empty() ? "<p>(no plots)</p>" : images,
                       skipped.empty() ? "<li>none</li>" : skipped);
   return result;
 }

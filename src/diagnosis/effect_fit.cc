@@ -30,8 +30,8 @@ std::vector<double> values_of(const EffectSpec& spec, std::span<const double> u)
 // The coarse start grid in the unit cube (the search is local): one parameter, five levels; two or three, the
 // corners and centre of the 3^n grid (sum of indices even). In the order they are tried.
 std::vector<std::vector<double>> start_grid(std::size_t n) {
-  const std::vector<double> levels = n == 1 ? std::vector<double>{0.05, 0.25, 0.5, 0.75, 0.95}
-                                            : std::vector<double>{0.2, 0.5, 0.8};
+  const std::vector<double> levels =
+      n == 1 ? std::vector<double>{0.05, 0.25, 0.5, 0.75, 0.95} : std::vector<double>{0.2, 0.5, 0.8};
   std::vector<std::vector<double>> grid;
   std::vector<std::size_t> index(n, 0);
   for (bool more = true; more;) {
@@ -42,8 +42,10 @@ std::vector<std::vector<double>> start_grid(std::size_t n) {
     if (n == 1 || index_sum % 2 == 0) grid.push_back(std::move(u));
     more = false;
     for (std::size_t i = 0; i < n && !more; ++i) {
-      if (++index[i] < levels.size()) more = true;
-      else index[i] = 0;
+      if (++index[i] < levels.size())
+        more = true;
+      else
+        index[i] = 0;
     }
   }
   return grid;
@@ -127,8 +129,8 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   fit.train_error_after = searched.training_error;
 
   // Held out: the full replay with the fitted effect.
-  const UnitSums after = problem.heldout_sums(
-      predictions_with(problem, variant_at(fit.values), spec, /*training_only=*/false, base.full));
+  const UnitSums after =
+      problem.heldout_sums(predictions_with(problem, variant_at(fit.values), spec, /*training_only=*/false, base.full));
   fit.heldout_error_after = problem.heldout_error(after);
   fit.shrink_fraction = fit.heldout_error_before > 0.0
                             ? (fit.heldout_error_before - fit.heldout_error_after) / fit.heldout_error_before

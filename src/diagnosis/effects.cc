@@ -15,35 +15,44 @@ using K = TrialKind;
 
 std::vector<EffectSpec> make_catalogue() {
   return {
-      {EffectId::kMountStretch, "mount_stretch",
-       "the mounting points stretch, F = K dx^2 (Eqn. fabric_stretching), self-consistently; torque data constrain only "
+      {EffectId::kMountStretch,
+       "mount_stretch",
+       "the mounting points stretch, F = K dx^2 (Eqn. fabric_stretching), self-consistently; torque data constrain "
+       "only "
        "the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
        "43.36:1097.50 when the nominal has none)",
        {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
-      {EffectId::kFpamParams, "fpam_params",
+      {EffectId::kFpamParams,
+       "fpam_params",
        "the fPAM's r0 scaled and eps_max shifted at every pressure of its table (Eqn. force)",
        {{"r0_scale", 0.7, 1.3, false, 1.0}, {"eps_max_shift", -0.08, 0.08, false, 0.0}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
-      {EffectId::kRegulatorLag, "regulator_lag",
+      {EffectId::kRegulatorLag,
+       "regulator_lag",
        "the regulators follow the command with another first-order time constant and a dead time",
        {{"time_constant_s", 0.01, 1.0, true, NAN}, {"dead_time_s", 0.0, 0.3, false, 0.0}},
        {K::kTrajectory}},
-      {EffectId::kHysteresis, "hysteresis",
+      {EffectId::kHysteresis,
+       "hysteresis",
        "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h)",
        {{"fraction", 0.0, 0.4, false, 0.0}},
        {K::kTensile}},
-      {EffectId::kWrapGeometry, "wrap_geometry",
+      {EffectId::kWrapGeometry,
+       "wrap_geometry",
        "the wrist the muscles wrap around has another radius (Eqns. parameters2, length, tau2)",
        {{"wrist_radius_scale", 0.5, 1.5, false, 1.0}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
-      {EffectId::kPassiveWrist, "passive_wrist",
+      {EffectId::kPassiveWrist,
+       "passive_wrist",
        "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal",
        {{"stiffness_scale", 0.1, 10.0, true, 1.0}, {"damping_scale", 0.1, 10.0, true, 1.0}},
        {K::kRangeOfMotion, K::kTrajectory}},
-      {EffectId::kImuBias, "imu_bias",
+      {EffectId::kImuBias,
+       "imu_bias",
        "the IMU pair's angles carry an offset and arrive late",
-       {{"offset_fe_deg", -10.0, 10.0, false, 0.0}, {"offset_ur_deg", -10.0, 10.0, false, 0.0},
+       {{"offset_fe_deg", -10.0, 10.0, false, 0.0},
+        {"offset_ur_deg", -10.0, 10.0, false, 0.0},
         {"latency_s", 0.0, 0.2, false, 0.0}},
        {K::kTrajectory}},
   };
@@ -91,15 +100,16 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
       const double c = 1.0 / std::sqrt(values[0] * 1e4);
       const double scale = c / (c1 + c2);
       device.mount_stiffness = {.forearm = 1.0 / std::pow(c1 * scale, 2), .hand = 1.0 / std::pow(c2 * scale, 2)};
-      if (device.stretch_mode == physics::StretchMode::kNone) device.stretch_mode = physics::StretchMode::kSelfConsistent;
+      if (device.stretch_mode == physics::StretchMode::kNone)
+        device.stretch_mode = physics::StretchMode::kSelfConsistent;
       break;
     }
     case EffectId::kFpamParams: {
       std::vector<physics::FpamTableRow> rows = device.fpam.rows();
       for (auto& row : rows) {
         row.radius *= values[0];
-        row.max_contraction = std::clamp(row.max_contraction + values[1], 0.01,
-                                         physics::max_contraction_upper_bound() - 1e-6);
+        row.max_contraction =
+            std::clamp(row.max_contraction + values[1], 0.01, physics::max_contraction_upper_bound() - 1e-6);
       }
       device.fpam = device.fpam.with_rows(std::move(rows));
       break;
@@ -144,7 +154,8 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
                      1.0 / std::sqrt(std::abs(nominal.mount_stiffness.hand));
     start[0] = 1.0 / (c * c) / 1e4;
   }
-  for (std::size_t i = 0; i < start.size(); ++i) start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);
+  for (std::size_t i = 0; i < start.size(); ++i)
+    start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);
   return start;
 }
 

@@ -40,11 +40,11 @@ std::optional<EffectId> effect_from_name(std::string_view name);
 
 // The model a replay runs: the nominal device with effects switched on.
 struct ModelVariant {
-  sim::DeviceDescription device;  // effects that live in the placement file are applied here
-  double regulator_dead_time = 0.0;  // [s] commands reach the regulators this late
-  double hysteresis = 0.0;           // fPAM force x (1 + h) loading, x (1 - h) unloading
+  sim::DeviceDescription device;                    // effects that live in the placement file are applied here
+  double regulator_dead_time = 0.0;                 // [s] commands reach the regulators this late
+  double hysteresis = 0.0;                          // fPAM force x (1 + h) loading, x (1 - h) unloading
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
-  double imu_latency = 0.0;          // [s] the measured angles are this old
+  double imu_latency = 0.0;                         // [s] the measured angles are this old
 };
 
 // Switches effect `id` on in `variant` with `values` in its spec's units (one per parameter). Values outside a

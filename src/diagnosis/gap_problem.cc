@@ -110,7 +110,9 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
   }
   if (shrinks.empty()) return {0.0, 0.0};
   std::sort(shrinks.begin(), shrinks.end());
-  const auto at = [&](double q) { return shrinks[static_cast<std::size_t>(q * static_cast<double>(shrinks.size() - 1))]; };
+  const auto at = [&](double q) {
+    return shrinks[static_cast<std::size_t>(q * static_cast<double>(shrinks.size() - 1))];
+  };
   return {at(0.025), at(0.975)};
 }
 

@@ -7,9 +7,9 @@
 #include <map>
 #include <numeric>
 
+#include <fmt/format.h>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
-#include <fmt/format.h>
 #include <unsupported/Eigen/FFT>
 
 #include "physics/torque_geometry.h"
@@ -132,9 +132,9 @@ struct TrialEntries {
 // Whether the nominal device's `muscle` wraps around the wrist at `angle_deg`.
 bool nominal_path_wraps(const sim::DeviceDescription& nominal, int muscle, double angle_deg) {
   const auto& mount = nominal.muscles[static_cast<std::size_t>(muscle)];
-  return physics::muscle_path(mount.placement, mount.wrist_radius,
-                              physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) *
-                                  units::deg_to_rad(angle_deg))
+  return physics::muscle_path(
+             mount.placement, mount.wrist_radius,
+             physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) * units::deg_to_rad(angle_deg))
              .regime == physics::Regime::kWrapping;
 }
 
@@ -228,8 +228,9 @@ void add_angle_channels(const TrialEntries& entries) {
            if (!in_channel(p)) return std::nullopt;
            return p.motion;
          })) {
-      const char* direction = motion == 0 ? "at rest" : (motion > 0 ? (channel == 0 ? "flexing" : "moving ulnar")
-                                                                    : (channel == 0 ? "extending" : "moving radial"));
+      const char* direction = motion == 0 ? "at rest"
+                                          : (motion > 0 ? (channel == 0 ? "flexing" : "moving ulnar")
+                                                        : (channel == 0 ? "extending" : "moving radial"));
       entries.add(members, fmt::format("{} {}", channel_name(channel), direction));
     }
     add_bands(entries.trial, entries.residuals, channel, entries.out);

@@ -24,7 +24,7 @@ struct LocalizationEntry {
   double p_value = 1.0;
   bool significant = false;
   std::string unit;
-  int count = 0;           // measurements in the part
+  int count = 0;  // measurements in the part
   // For the residual map: the part's centre (NaN where it has none).
   double angle_deg = NAN, pressure_kpa = NAN;
 };

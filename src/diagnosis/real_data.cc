@@ -17,10 +17,14 @@ using units::kpa_to_pa;
 
 const char* to_string(TrialKind kind) {
   switch (kind) {
-    case TrialKind::kTorqueSweep: return "torque_sweep";
-    case TrialKind::kRangeOfMotion: return "range_of_motion";
-    case TrialKind::kTensile: return "tensile";
-    case TrialKind::kTrajectory: return "trajectory";
+    case TrialKind::kTorqueSweep:
+      return "torque_sweep";
+    case TrialKind::kRangeOfMotion:
+      return "range_of_motion";
+    case TrialKind::kTensile:
+      return "tensile";
+    case TrialKind::kTrajectory:
+      return "trajectory";
   }
   return "?";
 }
@@ -50,14 +54,16 @@ int integer_cell(const io::CsvTable& table, std::size_t row, int column) {
 // what no fPAM holds.
 double pressure_cell(const io::CsvTable& table, std::size_t row, int column) {
   const double kpa = table.number(row, column);
-  if (kpa < 0.0 || kpa > 1000.0) fail_at(table, row, fmt::format("{}: {} kPa is outside 0..1000 kPa", table.header()[column], kpa));
+  if (kpa < 0.0 || kpa > 1000.0)
+    fail_at(table, row, fmt::format("{}: {} kPa is outside 0..1000 kPa", table.header()[column], kpa));
   return kpa_to_pa(kpa);
 }
 
 // A measured pressure cell [kPa]: a sensor's zero may read a little below zero.
 double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, int column) {
   const double kpa = table.number(row, column);
-  if (kpa < -20.0 || kpa > 1000.0) fail_at(table, row, fmt::format("{}: {} kPa is outside -20..1000 kPa", table.header()[column], kpa));
+  if (kpa < -20.0 || kpa > 1000.0)
+    fail_at(table, row, fmt::format("{}: {} kPa is outside -20..1000 kPa", table.header()[column], kpa));
   return kpa;
 }
 
@@ -101,15 +107,20 @@ std::vector<Trial> tensile_trials(const experiments::TrialLog& log, Trial base) 
   base.kind = TrialKind::kTensile;
   for (std::size_t r = 0; r < t.row_count(); ++r) {
     const double eps = t.number(r, c_eps);
-    if (eps < -0.5 || eps >= 1.0) fail_at(t, r, fmt::format("contraction: {} is not a contraction ratio (-0.5..1)", eps));
+    if (eps < -0.5 || eps >= 1.0)
+      fail_at(t, r, fmt::format("contraction: {} is not a contraction ratio (-0.5..1)", eps));
     bool loading = true;
     if (c_direction >= 0) {
       const std::string& d = t.cell(r, c_direction);
-      if (d != "loading" && d != "unloading") fail_at(t, r, fmt::format("direction: '{}' is not loading or unloading", d));
+      if (d != "loading" && d != "unloading")
+        fail_at(t, r, fmt::format("direction: '{}' is not loading or unloading", d));
       loading = d == "loading";
     }
-    base.tensile.push_back({.pressure = pressure_cell(t, r, c_pressure), .contraction = eps,
-                            .force = t.number(r, c_force), .loading = loading, .cycle = integer_cell(t, r, c_cycle)});
+    base.tensile.push_back({.pressure = pressure_cell(t, r, c_pressure),
+                            .contraction = eps,
+                            .force = t.number(r, c_force),
+                            .loading = loading,
+                            .cycle = integer_cell(t, r, c_cycle)});
   }
   return {base};
 }
@@ -128,8 +139,10 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
     measured_columns += c_measured[m] >= 0 ? 1 : 0;
   }
   if (measured_columns != 0 && measured_columns != 4) {
-    throw std::runtime_error(fmt::format("{}: has {} of the four measured-pressure columns p_<muscle>_kpa; give all "
-                                         "four (flexor, extensor, ulnar, radial) or none", t.source(), measured_columns));
+    throw std::runtime_error(
+        fmt::format("{}: has {} of the four measured-pressure columns p_<muscle>_kpa; give all "
+                    "four (flexor, extensor, ulnar, radial) or none",
+                    t.source(), measured_columns));
   }
   base.kind = TrialKind::kTrajectory;
   std::map<std::string, Trial> by_case;  // rows of several cases may interleave in a merged log
@@ -149,7 +162,8 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
     }
     auto& samples = it->second.trajectory;
     if (!samples.empty() && !(s.t > samples.back().t)) {
-      fail_at(t, r, fmt::format("t_s: {} does not follow {} (time must increase within a case)", s.t, samples.back().t));
+      fail_at(t, r,
+              fmt::format("t_s: {} does not follow {} (time must increase within a case)", s.t, samples.back().t));
     }
     if (samples.empty() && s.t < 0.0) fail_at(t, r, "t_s: a trajectory starts at t >= 0");
     samples.push_back(s);
@@ -181,9 +195,10 @@ std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::
   if (kind == "range_of_motion") return rom_trials(log, base);
   if (kind == "tensile") return tensile_trials(log, base);
   if (kind == "tracking" || kind == "trajectory") return trajectory_trials(log, base);
-  throw std::runtime_error(fmt::format("{}: kind '{}' has no measurements a diagnosis compares (it reads "
-                                       "torque_validation, torque_sweep, range_of_motion, tensile, tracking, trajectory)",
-                                       log.table.source(), kind));
+  throw std::runtime_error(
+      fmt::format("{}: kind '{}' has no measurements a diagnosis compares (it reads "
+                  "torque_validation, torque_sweep, range_of_motion, tensile, tracking, trajectory)",
+                  log.table.source(), kind));
 }
 
 RealData load_real_data(const fs::path& dir) {
@@ -203,8 +218,9 @@ RealData load_real_data(const fs::path& dir) {
       const bool has_sidecar = fs::exists(fs::path(file).replace_extension(".json"));
       const bool beside_a_log = fs::exists(file.parent_path() / "trials.json");
       if (!has_sidecar && !beside_a_log) {
-        data.problems.push_back({file.string(), "a CSV without its log sidecar (.json); convert it with "
-                                                "`softwrist import --kind KIND FILE.csv --out DIR`"});
+        data.problems.push_back({file.string(),
+                                 "a CSV without its log sidecar (.json); convert it with "
+                                 "`softwrist import --kind KIND FILE.csv --out DIR`"});
       }
       continue;
     }

@@ -46,17 +46,17 @@ struct TensilePoint {
 
 // One control-loop instant of a trajectory: what was commanded and what the IMUs said.
 struct TrajectorySample {
-  double t = 0.0;                       // [s] from the start of the run
-  control::Pressures command_kpa{};     // flexor, extensor, ulnar, radial
-  double fe = 0.0, ur = 0.0;            // [rad] measured wrist angles
+  double t = 0.0;                    // [s] from the start of the run
+  control::Pressures command_kpa{};  // flexor, extensor, ulnar, radial
+  double fe = 0.0, ur = 0.0;         // [rad] measured wrist angles
   // What the regulators' monitor outputs read (`p_<muscle>_kpa`: hardware logs, imports that have them).
   std::optional<control::Pressures> measured_kpa;
 };
 
 struct Trial {
   TrialKind kind = TrialKind::kTorqueSweep;
-  std::string name;  // the log's path under the data directory, and the case for trajectories
-  std::string file;  // the CSV, for messages
+  std::string name;       // the log's path under the data directory, and the case for trajectories
+  std::string file;       // the CSV, for messages
   double gravity = 9.81;  // [m/s^2]; 0 when a table carried the hand
   std::vector<SweepPoint> sweep;
   std::vector<RomPoint> rom;

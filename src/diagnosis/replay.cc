@@ -125,12 +125,15 @@ PreparedTrial prepare_rom(const Trial& trial) {
   Ids<std::pair<int, long>> groups;
   Ids<std::pair<int, int>> units;
   for (const RomPoint& r : trial.rom) {
-    Point point{.measured = rad_to_deg(r.limit), .angle_deg = rad_to_deg(r.limit),
-                .pressure_kpa = pa_to_kpa(r.pressure), .muscle = r.muscle};
+    Point point{.measured = rad_to_deg(r.limit),
+                .angle_deg = rad_to_deg(r.limit),
+                .pressure_kpa = pa_to_kpa(r.pressure),
+                .muscle = r.muscle};
     point.group = groups({r.muscle, std::lround(point.pressure_kpa)});
     point.unit = units({r.muscle, r.repetition});
     // Repeated trials: hold out every other repetition; a single one: the extensor and radial muscles.
-    point.heldout = max_repetition > 0 ? r.repetition % 2 == 1 : (r.muscle == sim::kExtensor || r.muscle == sim::kRadial);
+    point.heldout =
+        max_repetition > 0 ? r.repetition % 2 == 1 : (r.muscle == sim::kExtensor || r.muscle == sim::kRadial);
     p.points.push_back(point);
   }
   return p;
@@ -146,8 +149,8 @@ PreparedTrial prepare_tensile(const Trial& trial) {
   for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
     const TensilePoint& t = trial.tensile[i];
     const long bin = std::lround(t.contraction / 0.005);
-    Point point{.measured = t.force, .pressure_kpa = pressures[i], .contraction = t.contraction,
-                .motion = t.loading ? 1 : -1};
+    Point point{
+        .measured = t.force, .pressure_kpa = pressures[i], .contraction = t.contraction, .motion = t.loading ? 1 : -1};
     point.group = groups({level[i], t.loading, bin});
     // Several pressures: hold out every other pressure; one: every other contraction step.
     point.unit = levels > 1 ? level[i] : static_cast<int>(bin);
@@ -159,7 +162,9 @@ PreparedTrial prepare_tensile(const Trial& trial) {
 
 // A trajectory's angles (channels 0, 1) or, with `pressures`, its measured pressures (channel 2 + muscle).
 PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
-  PreparedTrial p{.trial = &trial, .name = pressures ? trial.name + " pressures" : trial.name, .pressures = pressures,
+  PreparedTrial p{.trial = &trial,
+                  .name = pressures ? trial.name + " pressures" : trial.name,
+                  .pressures = pressures,
                   .unit = pressures ? "kPa" : "deg"};
   const auto& s = trial.trajectory;
   const double t0 = s.front().t, t1 = s.back().t;
@@ -227,10 +232,18 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
   for (const Trial& trial : data.trials) {
     PreparedTrial p;
     switch (trial.kind) {
-      case TrialKind::kTorqueSweep: p = prepare_sweep(trial); break;
-      case TrialKind::kRangeOfMotion: p = prepare_rom(trial); break;
-      case TrialKind::kTensile: p = prepare_tensile(trial); break;
-      case TrialKind::kTrajectory: p = prepare_trajectory(trial, false); break;
+      case TrialKind::kTorqueSweep:
+        p = prepare_sweep(trial);
+        break;
+      case TrialKind::kRangeOfMotion:
+        p = prepare_rom(trial);
+        break;
+      case TrialKind::kTensile:
+        p = prepare_tensile(trial);
+        break;
+      case TrialKind::kTrajectory:
+        p = prepare_trajectory(trial, false);
+        break;
     }
     if (trial.kind != TrialKind::kTrajectory) {
       estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
@@ -247,7 +260,8 @@ void ReplayEngine::check_replayable(const Trial& trial, const ModelVariant& vari
   const double max_kpa = pa_to_kpa(variant.device.regulator.max_pressure);
   const auto check = [&](double kpa) {
     if (kpa > max_kpa + 1e-9) {
-      throw std::runtime_error(fmt::format("{}: {} kPa is beyond the model's regulators ({} kPa)", trial.name, kpa, max_kpa));
+      throw std::runtime_error(
+          fmt::format("{}: {} kPa is beyond the model's regulators ({} kPa)", trial.name, kpa, max_kpa));
     }
   };
   for (const auto& s : trial.sweep) check(pa_to_kpa(s.pressure));
@@ -256,8 +270,8 @@ void ReplayEngine::check_replayable(const Trial& trial, const ModelVariant& vari
     for (double kpa : s.command_kpa) check(kpa);
   }
   if (trial.kind == TrialKind::kTrajectory && trial.trajectory.back().t > 3600.0) {
-    throw std::runtime_error(fmt::format("{}: {} s is longer than the hour a replay is allowed", trial.name,
-                                         trial.trajectory.back().t));
+    throw std::runtime_error(
+        fmt::format("{}: {} s is longer than the hour a replay is allowed", trial.name, trial.trajectory.back().t));
   }
 }
 
@@ -316,9 +330,8 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
   });
 }
 
-std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial& trial,
-                                                                    const sim::DeviceDescription& device,
-                                                                    const std::vector<std::pair<int, double>>& conditions) {
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
+    const Trial& trial, const sim::DeviceDescription& device, const std::vector<std::pair<int, double>>& conditions) {
   return cached(fmt::format("rom|{}|{}|{}", trial.name, trial.file, sim::device_to_json(device)), [&] {
     // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
     // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
@@ -355,7 +368,8 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
       for (std::size_t i = 0; i < trial.sweep.size(); ++i) {
         const SweepPoint& s = trial.sweep[i];
         if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-        out[i] = physics::muscle_state(*muscles[s.muscle], physics::direction_of(s.muscle) * s.angle, s.pressure).torque;
+        out[i] =
+            physics::muscle_state(*muscles[s.muscle], physics::direction_of(s.muscle) * s.angle, s.pressure).torque;
       }
       break;
     }
@@ -368,7 +382,8 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
       const auto simulated = settle(trial, device, conditions);
       std::size_t k = 0;
       for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
-      for (std::size_t i = 0; i < trial.rom.size(); ++i) out[i] = settled.at({trial.rom[i].muscle, trial.rom[i].pressure});
+      for (std::size_t i = 0; i < trial.rom.size(); ++i)
+        out[i] = settled.at({trial.rom[i].muscle, trial.rom[i].pressure});
       break;
     }
     case TrialKind::kTensile:

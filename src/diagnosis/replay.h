@@ -40,26 +40,26 @@ struct Point {
   int unit = 0;           // split and bootstrap unit within the trial
   bool heldout = false;
   // Where it lies, for the localisation (NaN or -1 where it does not apply).
-  double angle_deg = NAN;     // wrist angle (own direction for range of motion)
+  double angle_deg = NAN;  // wrist angle (own direction for range of motion)
   double pressure_kpa = NAN;
   double contraction = NAN;
   int muscle = -1;
-  int channel = -1;           // trajectories: 0 flexion/extension, 1 ulnar/radial; 2 + muscle: its measured pressure
-  int motion = 0;             // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
+  int channel = -1;  // trajectories: 0 flexion/extension, 1 ulnar/radial; 2 + muscle: its measured pressure
+  int motion = 0;    // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
   double t_s = NAN;
 };
 
 struct PreparedTrial {
   const Trial* trial = nullptr;
-  std::string name;          // the trial's name; "<name> pressures" for a trajectory's measured pressures
+  std::string name;  // the trial's name; "<name> pressures" for a trajectory's measured pressures
   // A trajectory with measured pressures is prepared twice: its angles, and (with this set) its pressures, each with
   // its own unit and noise. The pressures tell a regulator's lag from an IMU's latency, which delay the angles alike.
   bool pressures = false;
   std::vector<Point> points;
-  std::string unit;          // of measured and residuals
-  double noise = 0.0;        // repeat-to-repeat standard deviation of one measurement, in `unit`
-  int noise_dof = 0;         // its degrees of freedom
-  std::string noise_source;  // how it was estimated
+  std::string unit;             // of measured and residuals
+  double noise = 0.0;           // repeat-to-repeat standard deviation of one measurement, in `unit`
+  int noise_dof = 0;            // its degrees of freedom
+  std::string noise_source;     // how it was estimated
   double training_end_s = 0.0;  // trajectories: the training part ends here
 };
 

@@ -30,8 +30,8 @@ using units::rad_to_deg;
 experiments::LogWriter open_log(const fs::path& dir, const std::string& kind, std::vector<experiments::Column> columns,
                                 nlohmann::json config) {
   fs::create_directories(dir);
-  experiments::LogHeader header{.kind = kind, .source = "synthetic", .config = std::move(config),
-                                .columns = std::move(columns), .case_count = 1};
+  experiments::LogHeader header{
+      .kind = kind, .source = "synthetic", .config = std::move(config), .columns = std::move(columns), .case_count = 1};
   return experiments::LogWriter(dir, "trials", header);
 }
 
@@ -52,7 +52,10 @@ void write_sweep(const SyntheticDevice& real, const SyntheticPlan& plan, const s
                  std::mt19937_64& rng, const fs::path& out) {
   std::normal_distribution<double> normal;
   auto log = open_log(out / "torque_sweep", "torque_sweep",
-                      {{"repetition", "", ""}, {"muscle", "", ""}, {"angle_deg", "deg", ""}, {"pressure_kpa", "kPa", ""},
+                      {{"repetition", "", ""},
+                       {"muscle", "", ""},
+                       {"angle_deg", "deg", ""},
+                       {"pressure_kpa", "kPa", ""},
                        {"torque_nm", "N m", ""}},
                       {{"muscle", "flexor"}});
   const sim::Model model = load(real, plugins, sim::kStandardGravity);
@@ -67,7 +70,8 @@ void write_sweep(const SyntheticDevice& real, const SyntheticPlan& plan, const s
         wrist.command_pressures_kpa({kpa, 0.0, 0.0, 0.0});
         wrist.run_held(hold_s, deg_to_rad(actual), 0.0);
         const double torque = wrist.muscle_torque(sim::kFlexor) + plan.noise.torque_nm * normal(rng);
-        log.write_row({std::to_string(rep), "flexor", format_number(actual), format_number(kpa), format_number(torque)});
+        log.write_row(
+            {std::to_string(rep), "flexor", format_number(actual), format_number(kpa), format_number(torque)});
       }
     }
   }
@@ -76,9 +80,10 @@ void write_sweep(const SyntheticDevice& real, const SyntheticPlan& plan, const s
 void write_rom(const SyntheticDevice& real, const SyntheticPlan& plan, const sim::PluginSet& plugins,
                std::mt19937_64& rng, const fs::path& out) {
   std::normal_distribution<double> normal;
-  auto log = open_log(out / "range_of_motion", "range_of_motion",
-                      {{"repetition", "", ""}, {"muscle", "", ""}, {"pressure_kpa", "kPa", ""}, {"limit_deg", "deg", ""}},
-                      {{"hand_supported", false}});
+  auto log =
+      open_log(out / "range_of_motion", "range_of_motion",
+               {{"repetition", "", ""}, {"muscle", "", ""}, {"pressure_kpa", "kPa", ""}, {"limit_deg", "deg", ""}},
+               {{"hand_supported", false}});
   const sim::Model model = load(real, plugins, sim::kStandardGravity);
   sim::WristSim wrist(model);
   for (int m = 0; m < 4; ++m) {
@@ -99,7 +104,10 @@ void write_rom(const SyntheticDevice& real, const SyntheticPlan& plan, const sim
 void write_tensile(const SyntheticDevice& real, const SyntheticPlan& plan, std::mt19937_64& rng, const fs::path& out) {
   std::normal_distribution<double> normal;
   auto log = open_log(out / "tensile", "tensile",
-                      {{"cycle", "", ""}, {"direction", "", ""}, {"pressure_kpa", "kPa", ""}, {"contraction", "", ""},
+                      {{"cycle", "", ""},
+                       {"direction", "", ""},
+                       {"pressure_kpa", "kPa", ""},
+                       {"contraction", "", ""},
                        {"force_n", "N", ""}},
                       nlohmann::json::object());
   for (int cycle = 0; cycle < plan.repetitions; ++cycle) {
@@ -159,7 +167,8 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
       for (std::size_t m = 0; m < 4; ++m) command[m] = prefiltered[m] += a * (command[m] - prefiltered[m]);
     }
     wrist.command_pressures_kpa(command);
-    history.push_back({wrist.angle(physics::WristAxis::kFlexionExtension), wrist.angle(physics::WristAxis::kUlnarRadial)});
+    history.push_back(
+        {wrist.angle(physics::WristAxis::kFlexionExtension), wrist.angle(physics::WristAxis::kUlnarRadial)});
     if (t + 1e-9 >= next_row) {
       const double late = real.imu_latency + (real.imu_latency_jitter > 0.0 ? jitter(rng) : 0.0);
       const double sampled = std::max(0.0, std::floor((t - late) / imu_period + 1e-9) * imu_period);

@@ -20,7 +20,7 @@
 namespace softwrist::diagnosis {
 
 struct SyntheticDevice {
-  sim::DeviceDescription device;  // the "real" device
+  sim::DeviceDescription device;     // the "real" device
   double regulator_dead_time = 0.0;  // [s]
   // [s] a first-order stage before the model's own regulator (0: none): the pair is a second-order regulator.
   double regulator_prefilter_time_constant = 0.0;
@@ -35,11 +35,11 @@ struct SyntheticDevice {
 };
 
 struct SyntheticNoise {
-  double torque_nm = 0.02;       // torque sensor (as experiments/torque_validation.json)
-  double angle_jitter_deg = 1.0; // the held wrist's actual angle
-  double rom_deg = 0.5;          // motion capture
-  double force_n = 0.5;          // tensile rig load cell
-  double imu_deg = 0.2;          // IMU pair (as the tracking experiments)
+  double torque_nm = 0.02;        // torque sensor (as experiments/torque_validation.json)
+  double angle_jitter_deg = 1.0;  // the held wrist's actual angle
+  double rom_deg = 0.5;           // motion capture
+  double force_n = 0.5;           // tensile rig load cell
+  double imu_deg = 0.2;           // IMU pair (as the tracking experiments)
   // Regulator monitor output. Assumed: the QB3's stated accuracy is +-0.5 % of its 137 kPa span (0.7 kPa); taken
   // as a bias-free 0.3 kPa standard deviation.
   double pressure_kpa = 0.3;

@@ -18,7 +18,7 @@ struct DesignSettings {
   optimize::OptimizerOptions options;
   std::optional<optimize::PressureSearch> pressure_search;
   std::optional<physics::Placement> exhaustive_resolution;  // [m]
-  std::string reference_text;  // the reference CSV as read, for the provenance hash
+  std::string reference_text;                               // the reference CSV as read, for the provenance hash
 };
 DesignSettings read_design_settings(io::JsonReader& reader, const ExperimentConfig& config);
 

@@ -35,7 +35,8 @@ std::unique_ptr<RangeOfMotion> RangeOfMotion::Create(const ExperimentConfig& con
   } else {
     e->muscles_ = {sim::kFlexor, sim::kExtensor, sim::kUlnar, sim::kRadial};
   }
-  e->pressure_ = e->device_->regulator_pressure(reader, "pressure_kpa", reader.number("pressure_kpa", physics::kRegulatorMaxPressureKpa));
+  e->pressure_ = e->device_->regulator_pressure(reader, "pressure_kpa",
+                                                reader.number("pressure_kpa", physics::kRegulatorMaxPressureKpa));
   const Repetitions repetitions = read_repetitions(reader);
   e->repetitions_ = repetitions.count;
   e->seed_ = repetitions.seed;
@@ -68,8 +69,9 @@ std::vector<Row> RangeOfMotion::run_case(int index) const {
   wrist.command_pressures_kpa(command);
   wrist.run(settle_time_);
   const physics::WristAxis joint = physics::axis_of(muscle);
-  const physics::WristAxis other = joint == physics::WristAxis::kFlexionExtension ? physics::WristAxis::kUlnarRadial
-                                                                            : physics::WristAxis::kFlexionExtension;
+  const physics::WristAxis other = joint == physics::WristAxis::kFlexionExtension
+                                       ? physics::WristAxis::kUlnarRadial
+                                       : physics::WristAxis::kFlexionExtension;
   const double limit = physics::direction_of(muscle) * wrist.angle(joint) + angle_std_ * normal(rng);
   const double other_angle = wrist.angle(other) + angle_std_ * normal(rng);
   return {{std::to_string(repetition), sim::kMuscleNames[muscle], format_number(units::pa_to_kpa(pressure_)),
@@ -121,8 +123,10 @@ nlohmann::json RangeOfMotion::summarize(const io::CsvTable& log, const std::file
                        {"analytic_limit_deg", limit ? nlohmann::json(rad_to_deg(*limit)) : nlohmann::json(nullptr)},
                        {"analytic_settled_deg", rad_to_deg(statics)},
                        {"at_analytic_settled_nm",
-                        {{"muscle", torques.muscle}, {"antagonist", torques.antagonist},
-                         {"passive_wrist", torques.passive}, {"gravity", torques.gravity}}},
+                        {{"muscle", torques.muscle},
+                         {"antagonist", torques.antagonist},
+                         {"passive_wrist", torques.passive},
+                         {"gravity", torques.gravity}}},
                        {"model_biological_limit_deg", rad_to_deg(biological[*muscle])},
                        {"paper_exosuit_deg", paper.exosuit_deg},
                        {"paper_exosuit_std_deg", paper.exosuit_std_deg},

@@ -7,9 +7,9 @@
 
 #include <memory>
 
-#include "physics/exosuit_layout.h"
 #include "experiments/experiment.h"
 #include "experiments/simulated_device.h"
+#include "physics/exosuit_layout.h"
 
 namespace softwrist::experiments {
 
@@ -30,8 +30,8 @@ class RangeOfMotion final : public Experiment {
   double pressure_ = physics::kRegulatorMaxPressure;  // [Pa]
   int repetitions_ = 3;
   std::uint64_t seed_ = 1;
-  double settle_time_ = 6.0;        // [s]
-  double angle_std_ = 0.0087;        // [rad] (0.5 deg) motion-capture angle noise, assumed
+  double settle_time_ = 6.0;   // [s]
+  double angle_std_ = 0.0087;  // [rad] (0.5 deg) motion-capture angle noise, assumed
 };
 
 }  // namespace softwrist::experiments

@@ -70,8 +70,10 @@ std::string existing_run_message(const RunOptions& options, const LogHeader& hea
   const std::string dir = options.out.string();
   const std::string command = options.command.empty() ? "softwrist run CONFIG --out " + dir : options.command;
   if (std::filesystem::exists(options.out / "summary.json")) {
-    return fmt::format("{}: holds a finished run; run it again from the start with\n  {} --overwrite\nor choose "
-                       "another --out", dir, command);
+    return fmt::format(
+        "{}: holds a finished run; run it again from the start with\n  {} --overwrite\nor choose "
+        "another --out",
+        dir, command);
   }
   std::string holds;
   try {
@@ -81,8 +83,10 @@ std::string existing_run_message(const RunOptions& options, const LogHeader& hea
   } catch (const std::exception& e) {
     holds = fmt::format("a trial log that cannot be read ({})", e.what());
   }
-  return fmt::format("{}: holds {}; resume it (its complete cases are kept) with\n  {} --resume\nor run it again "
-                     "from the start with\n  {} --overwrite", dir, holds, command, command);
+  return fmt::format(
+      "{}: holds {}; resume it (its complete cases are kept) with\n  {} --resume\nor run it again "
+      "from the start with\n  {} --overwrite",
+      dir, holds, command, command);
 }
 
 // The rows of an interrupted run's complete cases, and where in `cases` the rest begins. Rows are written in case
@@ -92,16 +96,20 @@ std::pair<std::vector<Row>, std::size_t> resumable_rows(const RunOptions& option
                                                         const std::vector<int>& cases) {
   const std::string dir = options.out.string();
   if (std::filesystem::exists(options.out / "summary.json")) {
-    throw std::runtime_error(fmt::format("{}: holds a finished run; nothing to resume (--overwrite runs it again)", dir));
+    throw std::runtime_error(
+        fmt::format("{}: holds a finished run; nothing to resume (--overwrite runs it again)", dir));
   }
   const TrialLog log = read_log(options.out, kTrialLogName);
   const auto differs = [&](const std::string& what) {
-    return std::runtime_error(fmt::format("{}: its run had another {}; it cannot be resumed with this one (--overwrite "
-                                          "runs this one from the start)", dir, what));
+    return std::runtime_error(
+        fmt::format("{}: its run had another {}; it cannot be resumed with this one (--overwrite "
+                    "runs this one from the start)",
+                    dir, what));
   };
   if (log.header.config_hash != header.config_hash) throw differs("config");
   if (log.header.model_hash != header.model_hash) throw differs("model");
-  if (log.header.shard_index != header.shard_index || log.header.shard_count != header.shard_count) throw differs("shard");
+  if (log.header.shard_index != header.shard_index || log.header.shard_count != header.shard_count)
+    throw differs("shard");
   if (log.header.columns.size() != header.columns.size()) throw differs("log format");
   std::map<int, std::size_t> position;
   for (std::size_t i = 0; i < cases.size(); ++i) position[cases[i]] = i;
@@ -110,9 +118,10 @@ std::pair<std::vector<Row>, std::size_t> resumable_rows(const RunOptions& option
   for (std::size_t r = 0; r < log.table.row_count(); ++r) {
     const auto found = position.find(log.table.integer(r, 0));
     if (found == position.end() || found->second < last) {
-      throw std::runtime_error(fmt::format("{}: line {}: case {} is out of order; the log was not written by an "
-                                           "interrupted run (--overwrite runs it from the start)",
-                                           log.table.source(), log.table.line_of(r), log.table.cell(r, 0)));
+      throw std::runtime_error(
+          fmt::format("{}: line {}: case {} is out of order; the log was not written by an "
+                      "interrupted run (--overwrite runs it from the start)",
+                      log.table.source(), log.table.line_of(r), log.table.cell(r, 0)));
     }
     last = found->second;
   }
@@ -133,11 +142,12 @@ std::vector<Column> log_columns(const Experiment& experiment) {
   return columns;
 }
 
-nlohmann::json summarize_run(const Experiment& experiment, const std::filesystem::path& out,
-                             const LogHeader& header) {
+nlohmann::json summarize_run(const Experiment& experiment, const std::filesystem::path& out, const LogHeader& header) {
   const TrialLog log = read_log(out, kTrialLogName);
-  nlohmann::json summary = {{"kind", header.kind}, {"config_hash", header.config_hash},
-                            {"model_hash", header.model_hash}, {"cases", header.case_count}};
+  nlohmann::json summary = {{"kind", header.kind},
+                            {"config_hash", header.config_hash},
+                            {"model_hash", header.model_hash},
+                            {"cases", header.case_count}};
   summary.update(experiment.summarize(log.table, out));
   write_summary(out, summary);
   return summary;
@@ -174,7 +184,8 @@ RunResult run_experiment(const ExperimentConfig& config, const RunOptions& optio
   }
   if (options.existing == ExistingRun::kResume) {
     if (!has_log) {
-      throw std::runtime_error(fmt::format("{}: holds no trial log to resume; run without --resume", options.out.string()));
+      throw std::runtime_error(
+          fmt::format("{}: holds no trial log to resume; run without --resume", options.out.string()));
     }
     std::tie(kept_rows, first) = resumable_rows(options, header, cases);
   }
@@ -221,9 +232,12 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
   for (std::size_t i = 1; i < logs.size(); ++i) {
     const LogHeader& h = logs[i].header;
     const std::string where = shard_dirs[i].string();
-    if (h.config_hash != first.config_hash) throw std::runtime_error(where + ": another experiment config than " + shard_dirs[0].string());
-    if (h.model_hash != first.model_hash) throw std::runtime_error(where + ": another model than " + shard_dirs[0].string());
-    if (h.case_count != first.case_count) throw std::runtime_error(where + ": another case count than " + shard_dirs[0].string());
+    if (h.config_hash != first.config_hash)
+      throw std::runtime_error(where + ": another experiment config than " + shard_dirs[0].string());
+    if (h.model_hash != first.model_hash)
+      throw std::runtime_error(where + ": another model than " + shard_dirs[0].string());
+    if (h.case_count != first.case_count)
+      throw std::runtime_error(where + ": another case count than " + shard_dirs[0].string());
   }
   // Every case exactly once; rows in case order (stable within a case).
   std::map<int, std::vector<std::pair<std::size_t, std::size_t>>> rows_by_case;  // case -> (log, row)
@@ -239,8 +253,8 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
                                              table.line_of(row), table.cell(row, c_case)));
       }
       if (case_source.contains(index) && !seen_here.contains(index)) {
-        throw std::runtime_error(fmt::format("{}:{}: case {} is also in {}", table.source(), table.line_of(row),
-                                             index, case_source[index]));
+        throw std::runtime_error(
+            fmt::format("{}:{}: case {} is also in {}", table.source(), table.line_of(row), index, case_source[index]));
       }
       seen_here.insert(index);
       case_source[index] = shard_dirs[l].string();
@@ -255,8 +269,10 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
     throw std::runtime_error(fmt::format("merge: cases missing (first ones: {}); is a shard incomplete or left out?",
                                          fmt::join(missing, ", ")));
   }
-  const ExperimentConfig config{.json = first.config, .base_dir = first.config_dir,
-                                .source = shard_dirs[0].string() + "/trials.json: config", .name = "merged"};
+  const ExperimentConfig config{.json = first.config,
+                                .base_dir = first.config_dir,
+                                .source = shard_dirs[0].string() + "/trials.json: config",
+                                .name = "merged"};
   const std::unique_ptr<Experiment> experiment = make_experiment(config);
   if (experiment->model_hash() != first.model_hash) {
     throw std::runtime_error("merge: the model or reference data changed since the shards ran (hash " +
@@ -270,7 +286,8 @@ RunResult merge_runs(const std::vector<std::filesystem::path>& shard_dirs, const
     for (const auto& [index, rows] : rows_by_case) {
       for (const auto& [l, row] : rows) {
         Row cells;
-        for (std::size_t c = 0; c < logs[l].table.header().size(); ++c) cells.push_back(logs[l].table.cell(row, static_cast<int>(c)));
+        for (std::size_t c = 0; c < logs[l].table.header().size(); ++c)
+          cells.push_back(logs[l].table.cell(row, static_cast<int>(c)));
         writer.write_row(cells);
       }
     }

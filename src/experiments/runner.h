@@ -37,9 +37,9 @@ struct RunOptions {
 };
 
 struct RunResult {
-  int cases_run = 0;      // in this process
-  int cases_resumed = 0;  // kept from the interrupted run
-  bool complete = false;  // all cases of the experiment are in this directory's log
+  int cases_run = 0;       // in this process
+  int cases_resumed = 0;   // kept from the interrupted run
+  bool complete = false;   // all cases of the experiment are in this directory's log
   nlohmann::json summary;  // when complete
 };
 

@@ -122,9 +122,9 @@ GroupComparison compare_groups(RepetitionGroups& groups, const std::vector<Torqu
   for (auto& [key, g] : groups) {
     const double mean = g.torque / g.count;
     const double variance = g.count > 1 ? std::max(0.0, (g.torque_sq - g.count * mean * mean) / (g.count - 1)) : 0.0;
-    nlohmann::json entry = {{"pressure_kpa", key.first}, {"angle_set_deg", key.second},
-                            {"angle_deg", g.angle / g.count}, {"torque_nm", mean},
-                            {"torque_std_nm", std::sqrt(variance)}, {"repetitions", g.count}};
+    nlohmann::json entry = {
+        {"pressure_kpa", key.first}, {"angle_set_deg", key.second},          {"angle_deg", g.angle / g.count},
+        {"torque_nm", mean},         {"torque_std_nm", std::sqrt(variance)}, {"repetitions", g.count}};
     for (const auto& m : methods) {
       const double model = g.model[m.name] / g.count;
       entry["model_" + m.name + "_nm"] = model;
@@ -227,9 +227,7 @@ std::vector<Column> TorqueValidation::columns() const {
           {"p2_y_cm", "cm", "measured hand mount, y"}};
 }
 
-int TorqueValidation::case_count() const {
-  return static_cast<int>(angles_.size() * pressures_.size()) * repetitions_;
-}
+int TorqueValidation::case_count() const { return static_cast<int>(angles_.size() * pressures_.size()) * repetitions_; }
 
 std::vector<Row> TorqueValidation::run_case(int index) const {
   const int repetition = index % repetitions_;
@@ -257,7 +255,9 @@ std::vector<Row> TorqueValidation::run_case(int index) const {
                           ? physics::mount_points(mount.placement, own_angle)
                           : physics::stretched_mount_points(mount.placement, mount.wrist_radius, own_angle, force,
                                                             device_->description.mount_stiffness);
-  const auto marker = [&](double coordinate) { return format_number(units::m_to_cm(coordinate + noise_.marker_std * normal(rng))); };
+  const auto marker = [&](double coordinate) {
+    return format_number(units::m_to_cm(coordinate + noise_.marker_std * normal(rng)));
+  };
   return {{std::to_string(repetition), format_number(rad_to_deg(angles_[angle_index])),
            format_number(units::pa_to_kpa(pressure)), format_number(rad_to_deg(actual_angle)), format_number(torque),
            marker(points.forearm.x), marker(points.forearm.y), marker(points.hand.x), marker(points.hand.y)}};

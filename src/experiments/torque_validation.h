@@ -15,10 +15,10 @@ namespace softwrist::experiments {
 
 struct TorqueNoise {
   // Assumed, configurable (no values in the paper): the spread of repeated readings at one angle and pressure.
-  double torque_std = 0.02;            // [N m] sensor noise and re-seating of the hand plate
-  double angle_jitter = 0.01745;       // [rad] (1 deg) the relaxed wrist's actual angle on the plate
-  double marker_std = 0.002;           // [m] a marker on the fPAM's end knot (Section Results of the torque
-                                       // measurement: "challenging to attach the markers directly to the end")
+  double torque_std = 0.02;       // [N m] sensor noise and re-seating of the hand plate
+  double angle_jitter = 0.01745;  // [rad] (1 deg) the relaxed wrist's actual angle on the plate
+  double marker_std = 0.002;      // [m] a marker on the fPAM's end knot (Section Results of the torque
+                                  // measurement: "challenging to attach the markers directly to the end")
 };
 
 class TorqueValidation final : public Experiment {

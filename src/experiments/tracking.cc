@@ -21,11 +21,10 @@ using io::format_number;
 
 // Section Planar angle tracking: 0.84 s and 19 % towards extension ("increasing" in the paper, which counts
 // extension positive there), 0.54 s and 44 % towards flexion; Section Spatial trajectory tracking: 5.18 and 7.12 deg.
-const nlohmann::json kPaperFigures = {
-    {"towards_extension", {{"rise_time_s", 0.84}, {"overshoot_pct", 19.0}}},
-    {"towards_flexion", {{"rise_time_s", 0.54}, {"overshoot_pct", 44.0}}},
-    {"rmse_fe_deg", 5.18},
-    {"rmse_ur_deg", 7.12}};
+const nlohmann::json kPaperFigures = {{"towards_extension", {{"rise_time_s", 0.84}, {"overshoot_pct", 19.0}}},
+                                      {"towards_flexion", {{"rise_time_s", 0.54}, {"overshoot_pct", 44.0}}},
+                                      {"rmse_fe_deg", 5.18},
+                                      {"rmse_ur_deg", 7.12}};
 
 control::PaperControllerParameters read_paper_parameters(io::JsonReader& r, double max_kpa) {
   control::PaperControllerParameters p;
@@ -86,9 +85,12 @@ control::AxisFlags read_active_pairs(io::JsonReader& r) {
   control::AxisFlags active{false, false};
   if (!list.is_array() || list.empty()) r.fail("pairs", "must be a non-empty list of \"fe\" and \"ur\"");
   for (const auto& item : list) {
-    if (item == "fe") active[0] = true;
-    else if (item == "ur") active[1] = true;
-    else r.fail("pairs", fmt::format("{} is not \"fe\" or \"ur\"", item.dump()));
+    if (item == "fe")
+      active[0] = true;
+    else if (item == "ur")
+      active[1] = true;
+    else
+      r.fail("pairs", fmt::format("{} is not \"fe\" or \"ur\"", item.dump()));
   }
   return active;
 }
@@ -140,7 +142,8 @@ std::unique_ptr<Tracking> Tracking::Create(const ExperimentConfig& config, io::J
           c.has("model") ? sim::load_device(config_path(c, "model", config)) : e->device_->description;
       const physics::WristModel wrist = sim::wrist_model(own, e->gravity_);
       const auto p = read_model_based_parameters(c, max_kpa);
-      e->controllers_.push_back({name, [wrist, p] { return std::make_unique<control::ModelBasedController>(wrist, p); }});
+      e->controllers_.push_back(
+          {name, [wrist, p] { return std::make_unique<control::ModelBasedController>(wrist, p); }});
     } else {
       c.fail("name", fmt::format("'{}' is not paper or model_based", name));
     }
@@ -169,12 +172,18 @@ std::vector<Column> tracking_columns() {
 }
 
 Row tracking_row(int repetition, const std::string& controller, const control::TrackingSample& s) {
-  return {std::to_string(repetition),         controller,
-          format_number(s.t_s),               format_number(s.desired.angles.fe_deg),
-          format_number(s.desired.angles.ur_deg), format_number(s.reading.angles.fe_deg),
-          format_number(s.reading.angles.ur_deg), format_number(s.command[0]),
-          format_number(s.command[1]),        format_number(s.command[2]),
-          format_number(s.command[3]),        s.unreachable[0] ? "1" : "0",
+  return {std::to_string(repetition),
+          controller,
+          format_number(s.t_s),
+          format_number(s.desired.angles.fe_deg),
+          format_number(s.desired.angles.ur_deg),
+          format_number(s.reading.angles.fe_deg),
+          format_number(s.reading.angles.ur_deg),
+          format_number(s.command[0]),
+          format_number(s.command[1]),
+          format_number(s.command[2]),
+          format_number(s.command[3]),
+          s.unreachable[0] ? "1" : "0",
           s.unreachable[1] ? "1" : "0"};
 }
 
@@ -359,8 +368,7 @@ void add_step_figures(nlohmann::json& c, const std::map<std::string, RunSeries>&
     const double from = levels[k - 1].fe_deg, to = levels[k].fe_deg;
     if (from == to) continue;
     const std::string direction = to < from ? "towards_extension" : "towards_flexion";
-    const StepResponses responses =
-        step_responses(reps, k, hold, from, to, context.options.unreachable_tolerance_deg);
+    const StepResponses responses = step_responses(reps, k, hold, from, to, context.options.unreachable_tolerance_deg);
     if (responses.rises.empty()) continue;
     const bool in_reach = within_reach(context.reach, to, 0.0, 0);
     steps.push_back({{"from_deg", from},
@@ -422,8 +430,8 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
 
   // Step metrics apply to a step sequence only.
   const auto* step_trajectory = dynamic_cast<const control::StepTrajectory*>(trajectory_.get());
-  const physics::ReachableRange reach = physics::reachable_range(
-      sim::wrist_model(device_->description, gravity_), device_->description.regulator.max_pressure);
+  const physics::ReachableRange reach = physics::reachable_range(sim::wrist_model(device_->description, gravity_),
+                                                                 device_->description.regulator.max_pressure);
   const SummaryContext context{options_, reach, step_trajectory, settle_s_, runs.has_truth};
 
   nlohmann::json controllers = nlohmann::json::array();
@@ -435,8 +443,10 @@ nlohmann::json Tracking::summarize(const io::CsvTable& log, const std::filesyste
           {"settle_s", settle_s_},
           {"hand_supported", gravity_ == 0.0},
           {"reachable_range_deg",
-           {{"flexion", units::rad_to_deg(reach.flexion)}, {"extension", units::rad_to_deg(reach.extension)},
-            {"ulnar", units::rad_to_deg(reach.ulnar)}, {"radial", units::rad_to_deg(reach.radial)}}},
+           {{"flexion", units::rad_to_deg(reach.flexion)},
+            {"extension", units::rad_to_deg(reach.extension)},
+            {"ulnar", units::rad_to_deg(reach.ulnar)},
+            {"radial", units::rad_to_deg(reach.radial)}}},
           {"reach_limited_rmse_floor_deg", floor},
           {"controllers", controllers},
           {"paper", kPaperFigures},

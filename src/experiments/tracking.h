@@ -10,8 +10,8 @@
 #include <memory>
 
 #include "control/controller.h"
-#include "control/trajectory.h"
 #include "control/tracking_loop.h"
+#include "control/trajectory.h"
 #include "experiments/experiment.h"
 #include "experiments/simulated_device.h"
 #include "sim/simulated_plant.h"
@@ -52,8 +52,8 @@ class Tracking final : public Experiment {
   std::unique_ptr<control::Trajectory> trajectory_;
   control::TrackingOptions options_;
   sim::ImuModel imu_;
-  double gravity_ = 9.81;     // [m/s^2], 0 with the hand supported
-  double settle_s_ = 3.0;     // excluded from the RMSE
+  double gravity_ = 9.81;  // [m/s^2], 0 with the hand supported
+  double settle_s_ = 3.0;  // excluded from the RMSE
   int repetitions_ = 3;
   std::uint64_t seed_ = 1;
 };

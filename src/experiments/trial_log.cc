@@ -29,7 +29,8 @@ nlohmann::json to_json(const LogHeader& header) {
           {"config_hash", header.config_hash},
           {"model_hash", header.model_hash},
           {"columns", columns},
-          {"cases", {{"total", header.case_count}, {"shard", fmt::format("{}/{}", header.shard_index, header.shard_count)}}}};
+          {"cases",
+           {{"total", header.case_count}, {"shard", fmt::format("{}/{}", header.shard_index, header.shard_count)}}}};
 }
 
 LogHeader log_header_from_json(const nlohmann::json& sidecar, const std::string& source) {
@@ -55,8 +56,8 @@ LogHeader log_header_from_json(const nlohmann::json& sidecar, const std::string&
   io::JsonReader cases = top.child("cases");
   header.case_count = static_cast<int>(cases.integer("total"));
   const std::string shard = cases.text("shard", "1/1");
-  if (std::sscanf(shard.c_str(), "%d/%d", &header.shard_index, &header.shard_count) != 2 ||
-      header.shard_index < 1 || header.shard_index > header.shard_count) {
+  if (std::sscanf(shard.c_str(), "%d/%d", &header.shard_index, &header.shard_count) != 2 || header.shard_index < 1 ||
+      header.shard_index > header.shard_count) {
     cases.fail("shard", fmt::format("'{}' is not K/N with 1 <= K <= N", shard));
   }
   cases.finish();

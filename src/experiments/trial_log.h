@@ -27,14 +27,14 @@ struct Column {
 };
 
 struct LogHeader {
-  std::string kind;                 // torque_validation, range_of_motion, design_optimization, ...
+  std::string kind;                   // torque_validation, range_of_motion, design_optimization, ...
   std::string source = "simulation";  // simulation, hardware, import
-  nlohmann::json config;            // the experiment config as run
-  std::string config_dir;           // the directory its relative paths start from
+  nlohmann::json config;              // the experiment config as run
+  std::string config_dir;             // the directory its relative paths start from
   std::string config_hash;
-  std::string model_hash;           // of what determines the simulated device (generated MJCF, reference data)
+  std::string model_hash;  // of what determines the simulated device (generated MJCF, reference data)
   std::vector<Column> columns;
-  int case_count = 0;               // cases of the whole experiment
+  int case_count = 0;  // cases of the whole experiment
   int shard_index = 1, shard_count = 1;
 };
 

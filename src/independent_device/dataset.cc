@@ -69,12 +69,19 @@ std::vector<DataFile> run_session(const DeviceSpec& device, const DatasetOptions
   std::vector<DataFile> files;
   files.push_back({"tensile.csv", "tensile", "torque_rig", run_tensile(s), {{"force_n"}}, {"force_n"}});
   s.clock_s += 300.0;  // the fPAM goes from the tester onto the rig
-  files.push_back({"torque_sweep.csv", "torque-sweep", "torque_rig",
+  files.push_back({"torque_sweep.csv",
+                   "torque-sweep",
+                   "torque_rig",
                    run_torque_sweep(s, c.torque_includes, c.sweep_posture, options.sweep_repetitions),
-                   {{"torque_nm"}}, {"torque_nm"}});
+                   {{"torque_nm"}},
+                   {"torque_nm"}});
   s.clock_s += 600.0;  // the prototype is donned
-  files.push_back({"rom.csv", "rom", "prototype", run_rom(s, c.rom_posture, options.rom_repetitions),
-                   {{"limit_deg"}}, {"limit_deg"}});
+  files.push_back({"rom.csv",
+                   "rom",
+                   "prototype",
+                   run_rom(s, c.rom_posture, options.rom_repetitions),
+                   {{"limit_deg"}},
+                   {"limit_deg"}});
   s.clock_s += 300.0;
   const std::vector<std::vector<std::string>> trajectory_groups{
       {"angle_fe_deg", "angle_ur_deg"}, {"p_flexor_kpa", "p_extensor_kpa", "p_ulnar_kpa", "p_radial_kpa"}};

@@ -26,7 +26,7 @@ struct DeviceSpec {
   HandSegment hand;
   PassiveWrist passive;
   ImuSpec imu;
-  double rig_angle_offset_rad = 0.0;    // the hand on the rig's plate is never exactly at the plate's angle
+  double rig_angle_offset_rad = 0.0;  // the hand on the rig's plate is never exactly at the plate's angle
 };
 
 DeviceSpec nominal_device();

@@ -51,8 +51,8 @@ struct FpamAtPressure {
   double pressure_pa = 0.0;
   double radius_m = 0.0;
   double max_contraction = 0.0;
-  double a = 0.0, b = 0.0;      // 3 / tan^2 a0 and 1 / sin^2 a0
-  double area_force_n = 0.0;    // pi r0^2 P: the scale of pressure-borne forces (and of fibre friction)
+  double a = 0.0, b = 0.0;    // 3 / tan^2 a0 and 1 / sin^2 a0
+  double area_force_n = 0.0;  // pi r0^2 P: the scale of pressure-borne forces (and of fibre friction)
   double exponential_amplitude_n = 0.0;
 };
 FpamAtPressure fpam_at_pressure(const FpamLaw& law, double pressure_pa);

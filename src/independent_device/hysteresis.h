@@ -25,8 +25,8 @@ struct HysteresisLaw {
 inline constexpr std::size_t kSlipElements = 6;
 
 struct HysteresisState {
-  double z = 0.0;                                  // Dahl state
-  std::array<double, kSlipElements> slip{};        // Maxwell-slip element deflections, normalised to [-1, 1]
+  double z = 0.0;                            // Dahl state
+  std::array<double, kSlipElements> slip{};  // Maxwell-slip element deflections, normalised to [-1, 1]
 };
 
 // Friction force added to the static tension [N]; area_force_n = pi r0^2 P.

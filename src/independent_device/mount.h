@@ -12,8 +12,8 @@
 namespace softwrist::independent {
 
 struct MountLaw {
-  double k_forearm_n_per_m2 = 43.36e4;   // |K1| = 43.36 N/cm^2 (paper Table torque_measurement_parameters)
-  double k_hand_n_per_m2 = 1097.5e4;     // |K2| = 1097.5 N/cm^2
+  double k_forearm_n_per_m2 = 43.36e4;  // |K1| = 43.36 N/cm^2 (paper Table torque_measurement_parameters)
+  double k_hand_n_per_m2 = 1097.5e4;    // |K2| = 1097.5 N/cm^2
   // mount_stretch: strap_linear_preload
   double strap_compliance_m_per_n = 0.0;
   double strap_preload_n = 8.0;

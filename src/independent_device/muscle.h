@@ -34,8 +34,8 @@ struct MuscleSpec {
 struct MuscleState {
   HysteresisState hysteresis;
   bool has_length = false;
-  double muscle_length_m = 0.0;   // last fabric length (drives the friction state)
-  double pressure_time_s = 0.0;   // creep integral I
+  double muscle_length_m = 0.0;  // last fabric length (drives the friction state)
+  double pressure_time_s = 0.0;  // creep integral I
   double strap_slip_m = 0.0;
 };
 

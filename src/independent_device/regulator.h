@@ -31,8 +31,8 @@ struct RegulatorSpec {
   double second_order_wn_rad_s = 0.0;  // 0: none
   double second_order_zeta = 0.5;
   // outside forms
-  double gain_drift = 0.0;            // transducer reads high by this fraction once warm
-  double gain_drift_tau_s = 1800.0;   // warm-up time constant (30 min)
+  double gain_drift = 0.0;           // transducer reads high by this fraction once warm
+  double gain_drift_tau_s = 1800.0;  // warm-up time constant (30 min)
   double leak_coefficient_sqrt_kpa = 0.0;
   // device-to-device variation of the monitor (calibration)
   double monitor_gain = 1.0, monitor_offset_kpa = 0.0;

@@ -42,7 +42,8 @@ struct PrototypeSim {
     const std::array<double, 2> torque{out[kFlexor].torque_nm - out[kExtensor].torque_nm + passive[0] + gravity[0],
                                        out[kUlnar].torque_nm - out[kRadial].torque_nm + passive[1] + gravity[1]};
     step_wrist(wrist, s.device.hand, torque, kDynamicsDt, ur_locked);
-    for (std::size_t i = 0; i < 4; ++i) advance_muscle(s.device.prototype[i], s.prototype[i], out[i], pressure[i], kDynamicsDt);
+    for (std::size_t i = 0; i < 4; ++i)
+      advance_muscle(s.device.prototype[i], s.prototype[i], out[i], pressure[i], kDynamicsDt);
     s.clock_s += kDynamicsDt;
   }
 };
@@ -77,8 +78,8 @@ Table run_tensile(Session& s) {
   Rng sensor(s.seed, "tensile-load-cell");
   const MuscleSpec& spec = s.device.tensile_specimen;
   Regulator& reg = s.regulators[kFlexor];
-  const double tester_l0 = 0.34;  // the length the tester's contraction refers to (measured L0, Table tensile)
-  const FpamLaw table_law;        // the operator starts each test at the contraction the paper's table shows
+  const double tester_l0 = 0.34;           // the length the tester's contraction refers to (measured L0, Table tensile)
+  const FpamLaw table_law;                 // the operator starts each test at the contraction the paper's table shows
   constexpr double kStepsPerUnit = 200.0;  // contraction grid 0.005
   constexpr double kPointS = 1.0;          // crosshead ~100 mm/min: 1.7 mm per grid step
   auto at = [&](int index, double command_kpa, double dt) {
@@ -98,7 +99,8 @@ Table run_tensile(Session& s) {
         const int first = loading ? start : 1, last = loading ? 0 : start, step = loading ? -1 : 1;
         for (int i = first;; i += step) {
           const MuscleForce f = at(i, pressure, kPointS);
-          t.rows.push_back({pressure, i / kStepsPerUnit, read_tensile_load_cell_n(f.force_n, s.noisy ? &sensor : nullptr),
+          t.rows.push_back({pressure, i / kStepsPerUnit,
+                            read_tensile_load_cell_n(f.force_n, s.noisy ? &sensor : nullptr),
                             std::string(loading ? "loading" : "unloading"), static_cast<double>(cycle)});
           if (i == last) break;
         }
@@ -162,7 +164,8 @@ Table run_torque_sweep(Session& s, const std::string& torque_includes, Posture p
       const double baseline = ascending ? reading.front() : reading.back();  // the 0 kPa reading at this angle
       for (std::size_t k = 0; k < 5; ++k) {
         double value = reading[k];
-        if (torque_includes == "baseline_subtracted") value = s.noisy ? quantise(value - baseline, 1000.0) : value - baseline;
+        if (torque_includes == "baseline_subtracted")
+          value = s.noisy ? quantise(value - baseline, 1000.0) : value - baseline;
         t.rows.push_back({angle_deg, pressure[k], value, static_cast<double>(rep), std::string("flexor")});
       }
     }

@@ -27,7 +27,7 @@ struct Session {
 
   DeviceSpec device;
   std::uint64_t seed;
-  bool noisy;  // false: the noise-free reference (no sensor noise, no quantisation, no human scatter)
+  bool noisy;               // false: the noise-free reference (no sensor noise, no quantisation, no human scatter)
   MuscleState flexor_fpam;  // the tensile specimen and the rig's flexor are one fPAM
   std::array<MuscleState, 4> prototype;
   std::vector<Regulator> regulators;

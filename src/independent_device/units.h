@@ -10,8 +10,8 @@ namespace softwrist::independent {
 inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kRadPerDeg = kPi / 180.0;
 inline constexpr double kPaPerKpa = 1000.0;
-inline constexpr double kGravity = 9.80665;         // standard gravity [m/s^2]
-inline constexpr double kRegulatorMaxKpa = 137.0;   // QB3 output range 0-137 kPa (paper, Sec. "Exosuit Prototype")
+inline constexpr double kGravity = 9.80665;        // standard gravity [m/s^2]
+inline constexpr double kRegulatorMaxKpa = 137.0;  // QB3 output range 0-137 kPa (paper, Sec. "Exosuit Prototype")
 
 inline double to_deg(double rad) { return rad / kRadPerDeg; }
 inline double to_rad(double deg) { return deg * kRadPerDeg; }

@@ -28,11 +28,11 @@ std::array<double, 2> passive_torque_nm(const PassiveWrist& wrist, const WristCo
   const auto& g = wrist.direction_gain;
   const auto& lim = wrist.limit_rad;
   return {axis_torque(state.fe, condition.rest_fe_rad, wrist.stiffness_fe_nm_per_rad, g[0], g[1],
-                      wrist.damping_fe_nms_per_rad, state.fe_rate, wrist.limit_torque_nm, wrist.limit_scale_rad,
-                      lim[0], lim[1], condition.stiffness_scale),
+                      wrist.damping_fe_nms_per_rad, state.fe_rate, wrist.limit_torque_nm, wrist.limit_scale_rad, lim[0],
+                      lim[1], condition.stiffness_scale),
           axis_torque(state.ur, condition.rest_ur_rad, wrist.stiffness_ur_nm_per_rad, g[2], g[3],
-                      wrist.damping_ur_nms_per_rad, state.ur_rate, wrist.limit_torque_nm, wrist.limit_scale_rad,
-                      lim[2], lim[3], condition.stiffness_scale)};
+                      wrist.damping_ur_nms_per_rad, state.ur_rate, wrist.limit_torque_nm, wrist.limit_scale_rad, lim[2],
+                      lim[3], condition.stiffness_scale)};
 }
 
 std::array<double, 2> gravity_torque_nm(const HandSegment& hand, Posture posture, double fe, double ur) {

@@ -24,7 +24,7 @@ namespace softwrist::independent {
 struct HandSegment {
   double mass_kg = 0.50;
   double com_m = 0.071;
-  double inertia_perp_kg_m2 = 0.0034;  // about the FE and UR axes through the wrist
+  double inertia_perp_kg_m2 = 0.0034;    // about the FE and UR axes through the wrist
   double inertia_axial_kg_m2 = 0.00034;  // about the hand's long axis (flat plate 8.5 cm x 3 cm)
 };
 

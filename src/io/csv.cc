@@ -55,9 +55,11 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source) {
     auto cells = split_cells(content, source, line_number);
     if (!have_header) {
       for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i].empty()) throw error_at(source, line_number, "header: column " + std::to_string(i + 1) + " has no name");
+        if (cells[i].empty())
+          throw error_at(source, line_number, "header: column " + std::to_string(i + 1) + " has no name");
         for (std::size_t j = 0; j < i; ++j) {
-          if (cells[j] == cells[i]) throw error_at(source, line_number, "header: column '" + cells[i] + "' appears twice");
+          if (cells[j] == cells[i])
+            throw error_at(source, line_number, "header: column '" + cells[i] + "' appears twice");
         }
       }
       table.header_ = std::move(cells);
@@ -65,8 +67,9 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source) {
       continue;
     }
     if (cells.size() != table.header_.size()) {
-      throw error_at(source, line_number, "expected " + std::to_string(table.header_.size()) + " cells, found " +
-                                              std::to_string(cells.size()));
+      throw error_at(
+          source, line_number,
+          "expected " + std::to_string(table.header_.size()) + " cells, found " + std::to_string(cells.size()));
     }
     table.rows_.push_back(std::move(cells));
     table.lines_.push_back(line_number);

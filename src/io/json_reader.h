@@ -37,7 +37,9 @@ class JsonReader {
     if (!std::isfinite(number)) fail(key, "must be finite");
     return number;
   }
-  double number(const std::string& key, double fallback) { return has(key) ? number(key) : (seen_.insert(key), fallback); }
+  double number(const std::string& key, double fallback) {
+    return has(key) ? number(key) : (seen_.insert(key), fallback);
+  }
   double positive(const std::string& key) {
     const double v = number(key);
     if (!(v > 0.0)) fail(key, fmt::format("must be > 0, got {}", v));

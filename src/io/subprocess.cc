@@ -103,7 +103,8 @@ void ProcessInput::write(const unsigned char* data, std::size_t size) {
   while (size > 0) {
     const ssize_t sent = send(input_, data, size, MSG_NOSIGNAL);
     if (sent < 0 && errno == EINTR) continue;
-    if (sent <= 0) throw std::runtime_error(fmt::format("{} stopped reading its input: {}", program_, std::strerror(errno)));
+    if (sent <= 0)
+      throw std::runtime_error(fmt::format("{} stopped reading its input: {}", program_, std::strerror(errno)));
     data += sent;
     size -= static_cast<std::size_t>(sent);
   }

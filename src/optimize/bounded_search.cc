@@ -38,7 +38,7 @@ void check(const BoundedSearchSettings& s, std::size_t n) {
 // What the objective wrapper keeps between NLopt's calls.
 struct Progress {
   const Objective* objective;
-  BoundedSearchResult best;
+  int evaluations = 0;
   std::exception_ptr error;
 };
 
@@ -46,11 +46,7 @@ double call_objective(unsigned n, const double* x, double*, void* data) {
   auto* p = static_cast<Progress*>(data);
   try {
     const double value = (*p->objective)(std::span<const double>(x, n));
-    ++p->best.evaluations;
-    if (p->best.x.empty() || value < p->best.value) {
-      p->best.x.assign(x, x + n);
-      p->best.value = value;
-    }
+    ++p->evaluations;
     return value;
   } catch (...) {
     p->error = std::current_exception();
@@ -72,20 +68,25 @@ BoundedSearchResult minimize_bounded(const Objective& objective, std::vector<dou
   if (settings.x_tolerance_abs > 0.0) search.set_xtol_abs(settings.x_tolerance_abs);
   if (settings.f_tolerance_rel > 0.0) search.set_ftol_rel(settings.f_tolerance_rel);
   search.set_maxeval(settings.max_evaluations);
-  Progress progress{.objective = &objective, .best = {}, .error = nullptr};
+  Progress progress{.objective = &objective, .evaluations = 0, .error = nullptr};
   search.set_min_objective(call_objective, &progress);
+  // NLopt leaves its best point in `start` and its value in `value` however it ends (ties go to the later point).
+  BoundedSearchResult result;
   double value = 0.0;
   try {
     search.optimize(start, value);
   } catch (const nlopt::roundoff_limited&) {
-    progress.best.stopped_by = "roundoff-limited";
+    result.stopped_by = "roundoff-limited";
   } catch (const nlopt::forced_stop&) {
     // Only the wrapper forces a stop, for the objective's exception, rethrown below.
   } catch (const std::runtime_error&) {  // NLOPT_FAILURE; invalid arguments and bad_alloc go through
-    progress.best.stopped_by = "NLopt failure";
+    result.stopped_by = "NLopt failure";
   }
   if (progress.error) std::rethrow_exception(progress.error);
-  return progress.best;
+  result.x = std::move(start);
+  result.value = value;
+  result.evaluations = progress.evaluations;
+  return result;
 }
 
 }  // namespace softwrist::optimize

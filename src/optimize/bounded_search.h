@@ -6,6 +6,7 @@
 //  - converged (x or f tolerance) or the evaluation budget spent: the best point, stopped_by empty;
 //  - NLopt's roundoff-limited end or its generic failure: the best point evaluated so far (the search cannot do
 //    better from there), stopped_by says which;
+//  (the best point is NLopt's own: of points with equal values, it keeps the later one)
 //  - an exception thrown by the objective: the search stops and the exception reaches the caller unchanged (an
 //    objective that can meet infeasible points returns a large value instead, as the diagnosis's does);
 //  - invalid settings (bounds, start, steps): std::invalid_argument naming the setting, before any evaluation.
@@ -29,7 +30,7 @@ struct BoundedSearchSettings {
 };
 
 struct BoundedSearchResult {
-  std::vector<double> x;  // the best point evaluated
+  std::vector<double> x;  // the best point NLopt evaluated
   double value = 0.0;     // the objective there
   int evaluations = 0;
   std::string stopped_by;  // empty, "roundoff-limited" or "NLopt failure"

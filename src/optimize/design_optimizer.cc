@@ -71,15 +71,15 @@ LocalSolution optimize_from(const DesignProblem& problem, const Placement& start
   std::vector<double> step(4);
   for (int i = 0; i < 4; ++i) step[i] = std::max(0.5 * resolution[i], 10 * options.x_tolerance);
   const auto s = to_array(start);
-  const BoundedSearchResult found = minimize_bounded(
-      [&](std::span<const double> x) { return evaluator.objective(to_placement(x.data())); },
-      std::vector<double>(s.begin(), s.end()),
-      {.algorithm = algorithm_named(options.algorithm),
-       .lower = std::vector<double>(lower.begin(), lower.end()),
-       .upper = std::vector<double>(upper.begin(), upper.end()),
-       .initial_step = step,
-       .x_tolerance_abs = options.x_tolerance,
-       .max_evaluations = options.max_evaluations});
+  const BoundedSearchResult found =
+      minimize_bounded([&](std::span<const double> x) { return evaluator.objective(to_placement(x.data())); },
+                       std::vector<double>(s.begin(), s.end()),
+                       {.algorithm = algorithm_named(options.algorithm),
+                        .lower = std::vector<double>(lower.begin(), lower.end()),
+                        .upper = std::vector<double>(upper.begin(), upper.end()),
+                        .initial_step = step,
+                        .x_tolerance_abs = options.x_tolerance,
+                        .max_evaluations = options.max_evaluations});
   return {.start = start,
           .placement = to_placement(found.x.data()),
           .objective = found.value,
@@ -110,18 +110,19 @@ DesignResult best_of(const std::vector<LocalSolution>& solutions) {
 }
 
 DesignResult optimize_design(const DesignProblem& problem, const OptimizerOptions& options) {
-  return best_of(optimize_starts(problem, start_grid(problem.bounds, options.start_resolution), options,
-                                 problem.pressure));
+  return best_of(
+      optimize_starts(problem, start_grid(problem.bounds, options.start_resolution), options, problem.pressure));
 }
 
 LocalSolution exhaustive_search(const DesignProblem& problem, const Placement& resolution, int jobs) {
   const std::vector<Placement> grid = start_grid(problem.bounds, resolution);
   const DesignEvaluator evaluator(problem);
   std::vector<double> values(grid.size());
-  parallel_for(
-      static_cast<int>(grid.size()), jobs, [&](int i) { values[i] = evaluator.objective(grid[i]); });
+  parallel_for(static_cast<int>(grid.size()), jobs, [&](int i) { values[i] = evaluator.objective(grid[i]); });
   const auto best = std::min_element(values.begin(), values.end()) - values.begin();
-  return {.start = grid[best], .placement = grid[best], .objective = values[best],
+  return {.start = grid[best],
+          .placement = grid[best],
+          .objective = values[best],
           .evaluations = static_cast<int>(grid.size())};
 }
 

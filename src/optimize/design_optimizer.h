@@ -8,17 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "physics/exosuit_layout.h"
 #include "optimize/design_problem.h"
+#include "physics/exosuit_layout.h"
 
 namespace softwrist::optimize {
 
 struct OptimizerOptions {
   physics::Placement start_resolution = kPaperStartResolution;  // [m]
-  std::string algorithm = "neldermead";  // "neldermead" (as the paper's fminsearch) or "subplex"
-  double x_tolerance = 1e-5;             // [m], absolute, per placement parameter
-  int max_evaluations = 4000;            // per start
-  int jobs = 1;                          // threads
+  std::string algorithm = "neldermead";                         // "neldermead" (as the paper's fminsearch) or "subplex"
+  double x_tolerance = 1e-5;                                    // [m], absolute, per placement parameter
+  int max_evaluations = 4000;                                   // per start
+  int jobs = 1;                                                 // threads
 };
 
 // Throws physics::InvalidParameter for an unknown algorithm or a non-positive resolution or tolerance.
@@ -69,9 +69,9 @@ struct PressureSearch {
 };
 
 struct PressureResult {
-  bool found = false;      // false when even `high` does not meet the reference
-  double pressure = 0.0;   // [Pa], the smallest pressure found that meets it (within tolerance)
-  LocalSolution design;    // the optimized placement at that pressure
+  bool found = false;                            // false when even `high` does not meet the reference
+  double pressure = 0.0;                         // [Pa], the smallest pressure found that meets it (within tolerance)
+  LocalSolution design;                          // the optimized placement at that pressure
   std::vector<std::pair<double, double>> trace;  // (pressure, best max deficit [N m]) at each trial
 };
 

@@ -33,17 +33,14 @@ void validate(const DesignProblem& problem) {
 }
 
 physics::Muscle design_muscle(const DesignProblem& problem, const physics::Placement& placement) {
-  physics::Muscle muscle{.placement = placement,
-                         .rest_length = physics::rest_length_for_range(placement, problem.wrist_radius,
-                                                                       problem.max_stretch_angle),
-                         .wrist_radius = problem.wrist_radius,
-                         .fpam = problem.fpam};
-  return muscle;
+  // L0 first: it can throw, and GCC 12 destroys a member twice when an exception leaves the aggregate
+  // initialisation of a class with a base (Muscle's MuscleLaw).
+  const double rest_length = physics::rest_length_for_range(placement, problem.wrist_radius, problem.max_stretch_angle);
+  return physics::Muscle{{.fpam = problem.fpam, .rest_length = rest_length}, placement, problem.wrist_radius};
 }
 
 DesignEvaluator::DesignEvaluator(const DesignProblem& problem, double pressure)
-    : problem_(problem),
-      force_law_(pressure, problem.fpam.at_pressure(pressure), problem.fpam.fabric()) {
+    : problem_(problem), force_law_(pressure, problem.fpam.at_pressure(pressure), problem.fpam.fabric()) {
   validate(problem);
 }
 
@@ -52,7 +49,8 @@ std::vector<double> DesignEvaluator::torque_curve(const physics::Placement& plac
   physics::validate(muscle);
   std::vector<double> torques;
   torques.reserve(problem_.samples.angles.size());
-  for (double angle : problem_.samples.angles) torques.push_back(physics::muscle_state(muscle, force_law_, angle).torque);
+  for (double angle : problem_.samples.angles)
+    torques.push_back(physics::muscle_state(muscle, force_law_, angle).torque);
   return torques;
 }
 

@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "physics/exosuit_layout.h"
 #include "optimize/reference_torque.h"
+#include "physics/exosuit_layout.h"
 #include "physics/fpam_parameters.h"
 #include "physics/muscle_torque.h"
 
@@ -30,10 +30,10 @@ enum class DesignObjective {
 };
 
 struct DesignProblem {
-  ReferenceTorque samples;     // the resampled reference (140 points in the paper)
+  ReferenceTorque samples;  // the resampled reference (140 points in the paper)
   physics::FpamParameters fpam = physics::FpamParameters::Constant(0.0123, 0.28);
   double pressure = physics::kRegulatorMaxPressure;  // [Pa]
-  double wrist_radius = 0.02;  // r_w [m]
+  double wrist_radius = 0.02;                        // r_w [m]
   double max_stretch_angle = 0.0;  // [rad], the angle (negative: towards extension for the flexor) that sets L0
   PlacementBounds bounds = kPaperBounds;
   DesignObjective objective = DesignObjective::kDeficit;

@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
-#include "physics/exosuit_layout.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 #include "physics/errors.h"
+#include "physics/exosuit_layout.h"
 #include "physics/units.h"
 
 namespace softwrist::optimize {
@@ -79,13 +79,17 @@ UserDescription load_user(const std::filesystem::path& path, int samples) {
     const double w1 = 0.5 * (fe ? forearm.thickness : forearm.width);
     const double w2 = 0.5 * (fe ? hand.thickness : hand.width);
     user.bounds[i] = {.lower = {.d1 = forearm.min_distance, .w1 = w1, .d2 = hand.min_distance, .w2 = w2},
-                      .upper = {.d1 = forearm.max_distance, .w1 = w1 + forearm.elevation,
-                                .d2 = hand.max_distance, .w2 = w2 + hand.elevation}};
+                      .upper = {.d1 = forearm.max_distance,
+                                .w1 = w1 + forearm.elevation,
+                                .d2 = hand.max_distance,
+                                .w2 = w2 + hand.elevation}};
   }
   if (top.has("start_resolution_cm")) {
     io::JsonReader r = top.child("start_resolution_cm");
-    user.start_resolution = {.d1 = cm_to_m(r.positive("d1")), .w1 = cm_to_m(r.positive("w1")),
-                             .d2 = cm_to_m(r.positive("d2")), .w2 = cm_to_m(r.positive("w2"))};
+    user.start_resolution = {.d1 = cm_to_m(r.positive("d1")),
+                             .w1 = cm_to_m(r.positive("w1")),
+                             .d2 = cm_to_m(r.positive("d2")),
+                             .w2 = cm_to_m(r.positive("w2"))};
     r.finish();
   }
   io::JsonReader references = top.child("references");

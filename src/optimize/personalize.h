@@ -13,9 +13,9 @@
 #include <filesystem>
 #include <string>
 
-#include "physics/exosuit_layout.h"
 #include "io/json_reader.h"
 #include "optimize/design_optimizer.h"
+#include "physics/exosuit_layout.h"
 
 namespace softwrist::optimize {
 
@@ -27,8 +27,8 @@ struct UserDescription {
   double wrist_radius_ur = 0.02;  // [m] half the wrist's radial-ulnar width
   // Range of motion [rad, positive]: flexion, extension, ulnar, radial (the order of sim::MuscleIndex's directions).
   std::array<double, 4> range{};
-  std::array<PlacementBounds, 4> bounds{};      // flexor, extensor, ulnar, radial
-  std::array<ReferenceTorque, 4> references{};  // resampled, angles in each muscle's own direction
+  std::array<PlacementBounds, 4> bounds{};                      // flexor, extensor, ulnar, radial
+  std::array<ReferenceTorque, 4> references{};                  // resampled, angles in each muscle's own direction
   physics::Placement start_resolution = kPaperStartResolution;  // [m] of the multi-start grid
 };
 
@@ -40,7 +40,7 @@ physics::FpamParameters read_design_fpam(io::JsonReader reader);
 UserDescription load_user(const std::filesystem::path& path, int samples = 140);
 
 struct PersonalizedMuscle {
-  physics::Muscle muscle;  // placement, L0, r_w, fPAM
+  physics::Muscle muscle;    // placement, L0, r_w, fPAM
   double objective = 0.0;    // [N m], Eqn. objective_function at the optimum
   double max_deficit = 0.0;  // [N m], <= 0 where it meets the reference everywhere
   long evaluations = 0;

@@ -22,7 +22,7 @@ constexpr WristAxis axis_of(MuscleIndex muscle) {
 constexpr double direction_of(MuscleIndex muscle) { return muscle == kFlexor || muscle == kUlnar ? 1.0 : -1.0; }
 
 // Section Exosuit Prototype: the regulators (QB3, Proportion-Air) hold 0-137 kPa.
-inline constexpr double kRegulatorMaxPressure = 137e3;   // [Pa]
+inline constexpr double kRegulatorMaxPressure = 137e3;     // [Pa]
 inline constexpr double kRegulatorMaxPressureKpa = 137.0;  // the same at the kPa edges (configs, commands, the CLI)
 
 }  // namespace softwrist::physics

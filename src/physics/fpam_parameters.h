@@ -10,9 +10,9 @@ namespace softwrist::physics {
 // Fabric of the fPAM wall (Section Parameter optimization; epsilon_0 from Table tensile_testing_parameters,
 // where it is the eps_max of the deflated muscle).
 struct FabricProperties {
-  double elastic_modulus = 9.06e6;             // E [Pa]
-  double thickness = 0.08e-3;                  // t [m]
-  double elastic_onset_contraction = 0.153;    // epsilon_0: below it the stretched fabric pulls elastically
+  double elastic_modulus = 9.06e6;           // E [Pa]
+  double thickness = 0.08e-3;                // t [m]
+  double elastic_onset_contraction = 0.153;  // epsilon_0: below it the stretched fabric pulls elastically
 };
 
 // r0 and eps_max at one pressure.

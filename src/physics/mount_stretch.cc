@@ -4,9 +4,12 @@ namespace softwrist::physics {
 
 const char* to_string(StretchMode mode) {
   switch (mode) {
-    case StretchMode::kOneShot: return "oneshot";
-    case StretchMode::kSelfConsistent: return "selfconsistent";
-    case StretchMode::kNone: break;
+    case StretchMode::kOneShot:
+      return "oneshot";
+    case StretchMode::kSelfConsistent:
+      return "selfconsistent";
+    case StretchMode::kNone:
+      break;
   }
   return "none";
 }
@@ -19,8 +22,8 @@ std::optional<StretchMode> parse_stretch_mode(std::string_view name) {
 }
 
 void validate(const MountStiffness& stiffness) {
-  require(std::isfinite(stiffness.forearm) && stiffness.forearm != 0.0, "mount stiffness K1 [N/m^2]",
-          stiffness.forearm, "must be finite and non-zero (only |K1| is used)");
+  require(std::isfinite(stiffness.forearm) && stiffness.forearm != 0.0, "mount stiffness K1 [N/m^2]", stiffness.forearm,
+          "must be finite and non-zero (only |K1| is used)");
   require(std::isfinite(stiffness.hand) && stiffness.hand != 0.0, "mount stiffness K2 [N/m^2]", stiffness.hand,
           "must be finite and non-zero (only |K2| is used)");
 }

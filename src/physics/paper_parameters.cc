@@ -32,7 +32,13 @@ Muscle torque_measurement_flexor(StretchMode stretch_mode) {
 const std::array<RomEntry, 4>& rom_table() {
   static const std::array<RomEntry, 4> table = {{
       {"flexion", {cm_to_m(20.5), cm_to_m(5.7), cm_to_m(4.0), cm_to_m(4.0)}, cm_to_m(29.0), 44.5, 7.5, 80.9, 6.7, 5.3},
-      {"extension", {cm_to_m(24.5), cm_to_m(3.7), cm_to_m(5.4), cm_to_m(4.1)}, cm_to_m(32.0), 38.7, 5.2, 56.0, 6.8,
+      {"extension",
+       {cm_to_m(24.5), cm_to_m(3.7), cm_to_m(5.4), cm_to_m(4.1)},
+       cm_to_m(32.0),
+       38.7,
+       5.2,
+       56.0,
+       6.8,
        20.9},
       {"ulnar", {cm_to_m(21.1), cm_to_m(7.1), cm_to_m(1.0), cm_to_m(3.4)}, cm_to_m(28.5), 26.8, 3.4, 39.1, 1.3, 16.1},
       {"radial", {cm_to_m(21.3), cm_to_m(4.8), cm_to_m(2.3), cm_to_m(6.0)}, cm_to_m(27.0), 15.9, 3.3, 23.2, 2.3, 14.0},

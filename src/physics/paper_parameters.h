@@ -53,7 +53,7 @@ Muscle rom_muscle(const RomEntry& entry);
 // Section Parameter optimization and Table optimized_parameters: the optimized placement of the flexor for the
 // example user, r_w = 2 cm, and L0 from Eqn. length at the maximal extension angle -65.4 deg.
 inline constexpr Placement kOptimizedPlacement{.d1 = 0.22, .w1 = 0.035, .d2 = 0.09, .w2 = 0.015};
-inline constexpr double kDesignWristRadius = 0.02;                  // [m]
+inline constexpr double kDesignWristRadius = 0.02;                       // [m]
 inline constexpr double kDesignMaxExtension = units::deg_to_rad(-65.4);  // [rad]
 Muscle design_optimum_flexor();
 

@@ -16,8 +16,10 @@ void validate(const Placement& placement, double wrist_radius) {
   require_positive("placement d2 [m]", placement.d2);
   require_non_negative("placement w2 [m]", placement.w2);
   require_positive("wrist_radius r_w [m]", wrist_radius);
-  for (const auto& [name, value] : {std::pair{"placement d1 [m]", placement.d1}, {"placement w1 [m]", placement.w1},
-                                    {"placement d2 [m]", placement.d2}, {"placement w2 [m]", placement.w2},
+  for (const auto& [name, value] : {std::pair{"placement d1 [m]", placement.d1},
+                                    {"placement w1 [m]", placement.w1},
+                                    {"placement d2 [m]", placement.d2},
+                                    {"placement w2 [m]", placement.w2},
                                     {"wrist_radius r_w [m]", wrist_radius}}) {
     require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
   }
@@ -32,7 +34,8 @@ namespace {
 // psi of Eqn. parameters2. Q1 is the tangent point from P1 on the muscle's side: P1 lies at polar angle
 // atan2(w1, -d1), and the tangent from it touches the circle acos(r_w/R1) closer to +y; psi is measured from y.
 double tangent_angle(const Placement& placement, double r_w) {
-  const double q1_polar = std::atan2(placement.w1, -placement.d1) - std::acos(r_w / std::hypot(placement.d1, placement.w1));
+  const double q1_polar =
+      std::atan2(placement.w1, -placement.d1) - std::acos(r_w / std::hypot(placement.d1, placement.w1));
   return std::numbers::pi / 2.0 - q1_polar;
 }
 
@@ -51,8 +54,8 @@ double wrap_transition_angle(const Placement& placement, double wrist_radius) {
 
 MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle) {
   validate(placement, wrist_radius);
-  require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]",
-          joint_angle, "must be finite and within [-pi, pi]");
+  require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]", joint_angle,
+          "must be finite and within [-pi, pi]");
   const auto [d1, w1, d2, w2] = placement;
   const double r_w = wrist_radius;
   const double c = std::cos(joint_angle);

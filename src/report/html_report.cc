@@ -43,7 +43,8 @@ const nlohmann::json& at(const nlohmann::json& j, std::initializer_list<const ch
 }
 
 fs::path plot_script(const std::string& name) {
-  for (const fs::path& dir : {fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_SOURCE), fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_INSTALLED)}) {
+  for (const fs::path& dir :
+       {fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_SOURCE), fs::path(SOFTWRIST_PLOT_SCRIPT_DIR_INSTALLED)}) {
     if (fs::is_regular_file(dir / name)) return dir / name;
   }
   throw std::runtime_error(fmt::format("report: plot script {} not found in {} or {}", name,
@@ -68,12 +69,13 @@ void run_plot_script(const std::string& name, const std::vector<std::string>& ar
   try {
     code = io::run_process(command);
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error(fmt::format("report: {} (install python3 and python3-matplotlib, or use --no-plots)", e.what()));
+    throw std::runtime_error(
+        fmt::format("report: {} (install python3 and python3-matplotlib, or use --no-plots)", e.what()));
   }
   if (code != 0) {
-    throw std::runtime_error(fmt::format(
-        "report: plotting failed ({} exited with {}); is python3-matplotlib installed? (or use --no-plots)",
-        script.string(), code));
+    throw std::runtime_error(
+        fmt::format("report: plotting failed ({} exited with {}); is python3-matplotlib installed? (or use --no-plots)",
+                    script.string(), code));
   }
 }
 
@@ -82,11 +84,20 @@ std::string html_escape(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -104,8 +115,8 @@ std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, con
   } else if (kind == "range_of_motion") {
     for (const auto& m : at(s, {"muscles"})) {
       rows.push_back({fmt::format("{} range", html_escape(m.value("direction", "?"))),
-                      num(m["settled_deg"], 1, "°") + " ± " + num(m["settled_std_deg"], 1, "°") +
-                          " (statics " + num(m["analytic_settled_deg"], 1, "°") + ")",
+                      num(m["settled_deg"], 1, "°") + " ± " + num(m["settled_std_deg"], 1, "°") + " (statics " +
+                          num(m["analytic_settled_deg"], 1, "°") + ")",
                       num(m["paper_exosuit_deg"], 1, "°") + " ± " + num(m["paper_exosuit_std_deg"], 1, "°") +
                           " (biological " + num(m["paper_biological_deg"], 1, "°") + ")"});
     }
@@ -199,8 +210,7 @@ std::string renders_section(const fs::path& run_dir, const fs::path& out, std::v
     write_png(renderer.Render(moment.pose, moment.view), out / file);
     files.push_back(file);
     html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1} ({2} view)</figcaption></figure>\n",
-                        html_escape(file), html_escape(moment.caption),
-                        view_name(moment.view));
+                        html_escape(file), html_escape(moment.caption), view_name(moment.view));
   }
   html += "</div>\n";
   return html;
@@ -216,8 +226,8 @@ std::string what_was_run_section(const nlohmann::json& sidecar, const nlohmann::
                         html_escape(v.is_string() ? v.get<std::string>() : v.dump()));
   }
   html += fmt::format("</table>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
-  html += fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n",
-                      html_escape(summary.dump(2)));
+  html +=
+      fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n", html_escape(summary.dump(2)));
   return html;
 }
 

@@ -30,7 +30,8 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   r.width = width;
   r.height = height;
   r.context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
-  if (r.context == nullptr) throw std::runtime_error("OSMesa could not create a rendering context (is libosmesa6 installed?)");
+  if (r.context == nullptr)
+    throw std::runtime_error("OSMesa could not create a rendering context (is libosmesa6 installed?)");
   r.buffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
   if (!OSMesaMakeCurrent(r.context, r.buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
     OSMesaDestroyContext(r.context);
@@ -43,9 +44,10 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   mjr_makeContext(r.model, &r.render_context, mjFONTSCALE_100);
   mjr_setBuffer(mjFB_OFFSCREEN, &r.render_context);
   if (r.render_context.offWidth < width || r.render_context.offHeight < height) {
-    throw std::runtime_error(fmt::format("the model's offscreen buffer ({}x{}) is smaller than {}x{}: raise "
-                                         "<visual><global offwidth offheight>",
-                                         r.render_context.offWidth, r.render_context.offHeight, width, height));
+    throw std::runtime_error(
+        fmt::format("the model's offscreen buffer ({}x{}) is smaller than {}x{}: raise "
+                    "<visual><global offwidth offheight>",
+                    r.render_context.offWidth, r.render_context.offHeight, width, height));
   }
 }
 
@@ -67,7 +69,8 @@ Image OffscreenRenderer::Render(const mjData* data, View view, double max_pressu
 }
 
 Image read_pixels(const mjrContext& context, int width, int height) {
-  Image image{width, height, std::vector<unsigned char>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)};
+  Image image{width, height,
+              std::vector<unsigned char>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)};
   std::vector<unsigned char> bottom_up(image.rgb.size());
   mjr_readPixels(bottom_up.data(), nullptr, {0, 0, width, height}, &context);
   const std::size_t row = static_cast<std::size_t>(width) * 3;

@@ -30,10 +30,11 @@ sim::DeviceDescription device_of(const experiments::LogHeader& header) {
 }
 
 std::string describe(const WristPose& pose) {
-  return fmt::format("flexion {:.1f}°, ulnar deviation {:.1f}°; pressures {:.0f}/{:.0f}/{:.0f}/{:.0f} kPa "
-                     "(flexor/extensor/ulnar/radial)",
-                     rad_to_deg(pose.fe), rad_to_deg(pose.ur), pose.pressures_kpa[0], pose.pressures_kpa[1],
-                     pose.pressures_kpa[2], pose.pressures_kpa[3]);
+  return fmt::format(
+      "flexion {:.1f}°, ulnar deviation {:.1f}°; pressures {:.0f}/{:.0f}/{:.0f}/{:.0f} kPa "
+      "(flexor/extensor/ulnar/radial)",
+      rad_to_deg(pose.fe), rad_to_deg(pose.ur), pose.pressures_kpa[0], pose.pressures_kpa[1], pose.pressures_kpa[2],
+      pose.pressures_kpa[3]);
 }
 
 View view_of(sim::MuscleIndex muscle) {
@@ -43,8 +44,8 @@ View view_of(sim::MuscleIndex muscle) {
 sim::MuscleIndex muscle_named(const io::CsvTable& table, std::size_t row, int column) {
   const auto muscle = sim::muscle_from_name(table.cell(row, column));
   if (!muscle) {
-    throw std::runtime_error(fmt::format("{}:{}: muscle: unknown muscle '{}'", table.source(), table.line_of(row),
-                                         table.cell(row, column)));
+    throw std::runtime_error(
+        fmt::format("{}:{}: muscle: unknown muscle '{}'", table.source(), table.line_of(row), table.cell(row, column)));
   }
   return *muscle;
 }
@@ -70,8 +71,8 @@ std::vector<Moment> range_of_motion_moments(const io::CsvTable& t) {
     const WristPose pose = single_muscle_pose(muscle, physics::direction_of(muscle) * limit,
                                               deg_to_rad(t.number(row, c_other)), t.number(row, c_pressure));
     moments.push_back({fmt::format("rom_{}", sim::kMuscleNames[muscle]),
-                       fmt::format("The {} alone at {:.0f} kPa, settled (first repetition): {}", sim::kMuscleNames[muscle],
-                                   t.number(row, c_pressure), describe(pose)),
+                       fmt::format("The {} alone at {:.0f} kPa, settled (first repetition): {}",
+                                   sim::kMuscleNames[muscle], t.number(row, c_pressure), describe(pose)),
                        pose, view_of(muscle)});
   }
   return moments;
@@ -196,8 +197,8 @@ RunMoments run_moments(const fs::path& run_dir, const MomentQuery& query) {
 std::vector<TimedPose> tracking_timeline(const fs::path& run_dir, int case_index) {
   const experiments::TrialLog log = experiments::read_log(run_dir, "trials");
   if (log.header.kind != "tracking") {
-    throw std::runtime_error(fmt::format("{} is a {} run; a video needs a tracking run", run_dir.string(),
-                                         log.header.kind));
+    throw std::runtime_error(
+        fmt::format("{} is a {} run; a video needs a tracking run", run_dir.string(), log.header.kind));
   }
   return tracking_case(log.table, case_index).poses;
 }

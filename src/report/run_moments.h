@@ -20,8 +20,8 @@
 namespace softwrist::report {
 
 struct WristPose {
-  double fe = 0.0, ur = 0.0;                // [rad], flexion and ulnar deviation positive
-  std::array<double, 4> pressures_kpa{};    // flexor, extensor, ulnar, radial
+  double fe = 0.0, ur = 0.0;              // [rad], flexion and ulnar deviation positive
+  std::array<double, 4> pressures_kpa{};  // flexor, extensor, ulnar, radial
 };
 
 struct Moment {

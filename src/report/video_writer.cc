@@ -16,9 +16,9 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
   }
   try {
     ffmpeg_ = std::make_unique<io::ProcessInput>(std::vector<std::string>{
-        "ffmpeg", "-hide_banner", "-loglevel", "error", "-y",                            //
+        "ffmpeg", "-hide_banner", "-loglevel", "error", "-y",                              //
         "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", fmt::format("{}x{}", width, height),  // our frames on stdin
-        "-r", fmt::format("{}", frames_per_second), "-i", "-",                           //
+        "-r", fmt::format("{}", frames_per_second), "-i", "-",                             //
         "-an", "-pix_fmt", "yuv420p", path.string()});
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(fmt::format("video: {} (install Debian's ffmpeg)", e.what()));
@@ -27,7 +27,8 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
 
 void VideoWriter::add_frame(const Image& frame) {
   if (frame.width != width_ || frame.height != height_) {
-    throw std::runtime_error(fmt::format("video: frame {}x{} in a {}x{} video", frame.width, frame.height, width_, height_));
+    throw std::runtime_error(
+        fmt::format("video: frame {}x{} in a {}x{} video", frame.width, frame.height, width_, height_));
   }
   try {
     ffmpeg_->write(frame.rgb.data(), frame.rgb.size());

@@ -7,12 +7,12 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "physics/exosuit_layout.h"
-#include "physics/errors.h"
-#include "physics/paper_parameters.h"
-#include "physics/plausible_ranges.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
+#include "physics/errors.h"
+#include "physics/exosuit_layout.h"
+#include "physics/paper_parameters.h"
+#include "physics/plausible_ranges.h"
 
 namespace softwrist::sim {
 namespace {
@@ -32,7 +32,8 @@ physics::FpamParameters read_fpam(Reader fpam) {
     std::vector<physics::FpamTableRow> rows;
     for (std::size_t i = 0; i < table.size(); ++i) {
       Reader row(table[i], fpam.source(), fmt::format("{}.table[{}]", fpam.path(), i));
-      rows.push_back({units::kpa_to_pa(row.number("pressure_kpa")), cm_to_m(row.number("r0_cm")), row.number("eps_max")});
+      rows.push_back(
+          {units::kpa_to_pa(row.number("pressure_kpa")), cm_to_m(row.number("r0_cm")), row.number("eps_max")});
       row.finish();
     }
     fpam.finish();
@@ -58,7 +59,8 @@ json fpam_to_json(const physics::FpamParameters& fpam) {
   }
   json rows = json::array();
   for (const auto& row : fpam.rows()) {
-    rows.push_back({{"pressure_kpa", units::pa_to_kpa(row.pressure)}, {"r0_cm", m_to_cm(row.radius)},
+    rows.push_back({{"pressure_kpa", units::pa_to_kpa(row.pressure)},
+                    {"r0_cm", m_to_cm(row.radius)},
                     {"eps_max", row.max_contraction}});
   }
   return {{"table", rows}};
@@ -79,7 +81,8 @@ physics::Muscle DeviceDescription::muscle(int index) const {
 }
 
 physics::MuscleLaw DeviceDescription::muscle_law(const MuscleMount& mount) const {
-  return {.fpam = fpam, .rest_length = mount.rest_length, .stretch_mode = stretch_mode, .mount_stiffness = mount_stiffness};
+  return {
+      .fpam = fpam, .rest_length = mount.rest_length, .stretch_mode = stretch_mode, .mount_stiffness = mount_stiffness};
 }
 
 DeviceDescription paper_device() {
@@ -156,7 +159,8 @@ void read_wrist(Reader w, PassiveWrist& p) {
   p.damping_ur = w.number("damping_ur_nms_per_rad", p.damping_ur);
   for (auto [key, value] : {std::pair{"stiffness_fe_nm_per_rad", p.stiffness_fe},
                             {"stiffness_ur_nm_per_rad", p.stiffness_ur},
-                            {"damping_fe_nms_per_rad", p.damping_fe}, {"damping_ur_nms_per_rad", p.damping_ur}}) {
+                            {"damping_fe_nms_per_rad", p.damping_fe},
+                            {"damping_ur_nms_per_rad", p.damping_ur}}) {
     if (value < 0.0) w.fail(key, fmt::format("must be >= 0, got {}", value));
   }
   p.flexion_limit = units::deg_to_rad(w.positive("flexion_limit_deg", units::rad_to_deg(p.flexion_limit)));
@@ -221,20 +225,27 @@ std::string device_to_json(const DeviceDescription& device) {
       {"format", kFormat},
       {"muscles", muscles},
       {"fpam", fpam_to_json(device.fpam)},
-      {"stretch", {{"mode", physics::to_string(device.stretch_mode)},
-                   {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
-                   {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}}},
-      {"regulator", {{"max_pressure_kpa", units::pa_to_kpa(device.regulator.max_pressure)},
-                     {"time_constant_s", device.regulator.time_constant}}},
-      {"wrist", {{"stiffness_fe_nm_per_rad", w.stiffness_fe}, {"stiffness_ur_nm_per_rad", w.stiffness_ur},
-                 {"damping_fe_nms_per_rad", w.damping_fe}, {"damping_ur_nms_per_rad", w.damping_ur},
-                 {"flexion_limit_deg", units::rad_to_deg(w.flexion_limit)},
-                 {"extension_limit_deg", units::rad_to_deg(w.extension_limit)},
-                 {"ulnar_limit_deg", units::rad_to_deg(w.ulnar_limit)},
-                 {"radial_limit_deg", units::rad_to_deg(w.radial_limit)}}},
-      {"hand", {{"mass_kg", device.hand.mass}, {"com_distance_cm", m_to_cm(device.hand.com_distance)},
-                {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
-                {"length_cm", m_to_cm(device.hand.length)}}},
+      {"stretch",
+       {{"mode", physics::to_string(device.stretch_mode)},
+        {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
+        {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}}},
+      {"regulator",
+       {{"max_pressure_kpa", units::pa_to_kpa(device.regulator.max_pressure)},
+        {"time_constant_s", device.regulator.time_constant}}},
+      {"wrist",
+       {{"stiffness_fe_nm_per_rad", w.stiffness_fe},
+        {"stiffness_ur_nm_per_rad", w.stiffness_ur},
+        {"damping_fe_nms_per_rad", w.damping_fe},
+        {"damping_ur_nms_per_rad", w.damping_ur},
+        {"flexion_limit_deg", units::rad_to_deg(w.flexion_limit)},
+        {"extension_limit_deg", units::rad_to_deg(w.extension_limit)},
+        {"ulnar_limit_deg", units::rad_to_deg(w.ulnar_limit)},
+        {"radial_limit_deg", units::rad_to_deg(w.radial_limit)}}},
+      {"hand",
+       {{"mass_kg", device.hand.mass},
+        {"com_distance_cm", m_to_cm(device.hand.com_distance)},
+        {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
+        {"length_cm", m_to_cm(device.hand.length)}}},
   };
   return root.dump(2) + "\n";
 }

@@ -33,10 +33,10 @@ struct MuscleMount {
 
 // The relaxed wrist and the hand (cited in docs/placement-file.md and the generated model).
 struct PassiveWrist {
-  double stiffness_fe = 1.0;   // [N m/rad] flexion/extension (Charles & Hogan 2011, J Biomech 44:614; approx.)
-  double stiffness_ur = 1.6;   // [N m/rad] ulnar/radial, stiffer than FE (Formica et al. 2012, J Neurophysiol)
-  double damping_fe = 0.03;    // [N m s/rad] (Charles & Hogan 2011; approx.)
-  double damping_ur = 0.04;    // [N m s/rad]
+  double stiffness_fe = 1.0;  // [N m/rad] flexion/extension (Charles & Hogan 2011, J Biomech 44:614; approx.)
+  double stiffness_ur = 1.6;  // [N m/rad] ulnar/radial, stiffer than FE (Formica et al. 2012, J Neurophysiol)
+  double damping_fe = 0.03;   // [N m s/rad] (Charles & Hogan 2011; approx.)
+  double damping_ur = 0.04;   // [N m s/rad]
   // Biological range of motion, Table RoM [rad]: joint limits of the model.
   double flexion_limit = units::deg_to_rad(80.9);
   double extension_limit = units::deg_to_rad(56.0);
@@ -48,17 +48,17 @@ struct Hand {
   // Winter, Biomechanics and Motor Control of Human Movement (4th ed., Table 4.1): hand mass 0.006 of body mass,
   // centre of mass 0.506 of the wrist-to-knuckle length, radius of gyration 0.297 of it about the centre of mass.
   // For a 75 kg adult with an 0.19 m hand: 0.45 kg, 0.096 m, 0.056 m.
-  double mass = 0.45;             // [kg]
-  double com_distance = 0.096;    // [m] from the wrist joint centre along the hand
+  double mass = 0.45;                 // [kg]
+  double com_distance = 0.096;        // [m] from the wrist joint centre along the hand
   double radius_of_gyration = 0.056;  // [m]
-  double length = 0.19;           // [m], drawn
+  double length = 0.19;               // [m], drawn
 };
 
 struct Regulator {
   double max_pressure = physics::kRegulatorMaxPressure;  // [Pa]
   // The paper gives no regulator dynamics. 0.1 s is an assumed first-order time constant for a closed-loop
   // regulator filling a ~0.1 L fPAM through 6.35 mm tubing; the gap diagnosis's regulator_lag effect fits it.
-  double time_constant = 0.1;   // [s]
+  double time_constant = 0.1;  // [s]
 };
 
 struct DeviceDescription {

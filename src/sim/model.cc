@@ -6,9 +6,9 @@
 
 #include <fmt/format.h>
 
+#include "io/text_file.h"
 #include "mujoco_names.h"
 #include "plugin_config.h"
-#include "io/text_file.h"
 
 namespace softwrist::sim {
 namespace {
@@ -23,9 +23,10 @@ void check_plugin_names(const mjModel* m, const PluginSet& plugins, const std::s
     const int text = mj_name2id(m, mjOBJ_TEXT, plugin::config_text_name(actuator_name(m, id)).c_str());
     if (text < 0) {
       if (user) {
-        throw std::runtime_error(fmt::format("{}: actuator '{}' has user dynamics/gain/bias but no <custom><text "
-                                             "name=\"{}\"> naming its plugin",
-                                             source, actuator_name(m, id), plugin::config_text_name(actuator_name(m, id))));
+        throw std::runtime_error(
+            fmt::format("{}: actuator '{}' has user dynamics/gain/bias but no <custom><text "
+                        "name=\"{}\"> naming its plugin",
+                        source, actuator_name(m, id), plugin::config_text_name(actuator_name(m, id))));
       }
       continue;
     }

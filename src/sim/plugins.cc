@@ -23,7 +23,8 @@ Function symbol(void* handle, const char* name, const std::filesystem::path& fil
 PluginLibrary PluginLibrary::Load(const std::filesystem::path& directory, const std::string& name) {
   const auto file = directory / ("lib" + name + ".so");
   if (!std::filesystem::exists(file)) {
-    throw std::runtime_error(fmt::format("plugin '{}' not found: no {} (set SOFTWRIST_PLUGIN_DIR)", name, file.string()));
+    throw std::runtime_error(
+        fmt::format("plugin '{}' not found: no {} (set SOFTWRIST_PLUGIN_DIR)", name, file.string()));
   }
   // Never closed: the library installs process-wide MuJoCo callbacks.
   void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
@@ -36,8 +37,8 @@ PluginLibrary PluginLibrary::Load(const std::filesystem::path& directory, const 
   library.attach_ = symbol<int (*)(const mjModel*, char*, int)>(handle, "softwrist_plugin_attach", file);
   library.detach_ = symbol<void (*)(const mjModel*)>(handle, "softwrist_plugin_detach", file);
   if (symbol<int (*)()>(handle, "softwrist_plugin_register", file)() != 0) {
-    throw std::runtime_error(fmt::format("plugin {}: MuJoCo's user actuator callbacks belong to another library",
-                                         file.string()));
+    throw std::runtime_error(
+        fmt::format("plugin {}: MuJoCo's user actuator callbacks belong to another library", file.string()));
   }
   return library;
 }

@@ -36,7 +36,8 @@ std::filesystem::path default_plugin_dir();
 // The plugins a model may use; by default the fPAM actuator from default_plugin_dir().
 class PluginSet {
  public:
-  static PluginSet Load(const std::filesystem::path& directory, const std::vector<std::string>& names = {"softwrist_fpam"});
+  static PluginSet Load(const std::filesystem::path& directory,
+                        const std::vector<std::string>& names = {"softwrist_fpam"});
   static PluginSet Default() { return Load(default_plugin_dir()); }
   const std::vector<PluginLibrary>& libraries() const { return libraries_; }
 

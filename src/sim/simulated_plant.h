@@ -16,9 +16,9 @@
 namespace softwrist::sim {
 
 struct ImuModel {
-  double period_s = 0.01;         // 100 Hz
-  double noise_std_deg = 0.2;     // assumed
-  double bias_limit_deg = 2.5;    // BNO055 heading accuracy; 0 for an unbiased pair
+  double period_s = 0.01;       // 100 Hz
+  double noise_std_deg = 0.2;   // assumed
+  double bias_limit_deg = 2.5;  // BNO055 heading accuracy; 0 for an unbiased pair
   unsigned long long seed = 1;
 };
 

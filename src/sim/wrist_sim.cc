@@ -10,8 +10,8 @@ namespace {
 // MuJoCo resets the state when an acceleration, velocity or position turns NaN, Inf or huge, warns, and carries on
 // from there: every result after that would be silently wrong, so the simulation stops with the reason instead.
 void check_stable(const mjData* d) {
-  for (const auto& [warning, what] : {std::pair{mjWARN_BADQACC, "acceleration"}, {mjWARN_BADQVEL, "velocity"},
-                                      {mjWARN_BADQPOS, "position"}}) {
+  for (const auto& [warning, what] :
+       {std::pair{mjWARN_BADQACC, "acceleration"}, {mjWARN_BADQVEL, "velocity"}, {mjWARN_BADQPOS, "position"}}) {
     if (d->warning[warning].number > 0) {
       throw std::runtime_error(std::string("the simulation became unstable: NaN, Inf or a huge value in a joint's ") +
                                what + " (a device too stiff or too strong for the model's time step?)");
@@ -78,7 +78,8 @@ double WristSim::velocity(physics::WristAxis joint) const { return data_->qvel[d
 
 double WristSim::muscle_torque(MuscleIndex muscle) const {
   const int dof = dof_address_[static_cast<int>(physics::axis_of(muscle))];
-  return physics::direction_of(muscle) * data_->actuator_force[muscle] * data_->actuator_moment[muscle * model_->nv + dof];
+  return physics::direction_of(muscle) * data_->actuator_force[muscle] *
+         data_->actuator_moment[muscle * model_->nv + dof];
 }
 
 }  // namespace softwrist::sim

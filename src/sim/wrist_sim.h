@@ -10,7 +10,6 @@
 
 namespace softwrist::sim {
 
-
 class WristSim {
  public:
   explicit WristSim(const Model& model);

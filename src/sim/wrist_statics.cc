@@ -19,9 +19,9 @@ StaticTorques static_torques(const DeviceDescription& device, MuscleIndex muscle
                              double gravity) {
   const double direction = physics::direction_of(muscle);
   const bool agonist = direction > 0.0;
-  const physics::AxisTorques t = physics::axis_torques(wrist_model(device, gravity), physics::axis_of(muscle),
-                                                       direction * angle, agonist ? pressure : 0.0,
-                                                       agonist ? 0.0 : pressure);
+  const physics::AxisTorques t =
+      physics::axis_torques(wrist_model(device, gravity), physics::axis_of(muscle), direction * angle,
+                            agonist ? pressure : 0.0, agonist ? 0.0 : pressure);
   return {.muscle = direction * (agonist ? t.agonist : t.antagonist),
           .antagonist = direction * (agonist ? t.antagonist : t.agonist),
           .passive = direction * t.passive,

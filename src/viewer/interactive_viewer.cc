@@ -29,9 +29,10 @@ struct Glfw {
   Glfw() {
     glfwSetErrorCallback([](int, const char* description) { last_glfw_error() = description; });
     if (!glfwInit()) {
-      throw std::runtime_error(fmt::format("view: cannot start GLFW ({}); the viewer needs a display (for headless "
-                                           "use run it under xvfb-run, or use `softwrist render`)",
-                                           last_glfw_error()));
+      throw std::runtime_error(
+          fmt::format("view: cannot start GLFW ({}); the viewer needs a display (for headless "
+                      "use run it under xvfb-run, or use `softwrist render`)",
+                      last_glfw_error()));
     }
   }
   ~Glfw() { glfwTerminate(); }
@@ -182,8 +183,8 @@ ViewerSummary run_viewer(const sim::Model& sim_model, const ViewerOptions& optio
     report::colour_muscles_by_pressure(model, data.get(), options.default_max_kpa, &s.scene);
     mjr_render(viewport, &s.scene, &s.context);
     const auto rows = s.state.overlay(model, data.get());
-    mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, rows_text(rows, true).c_str(),
-                rows_text(rows, false).c_str(), &s.context);
+    mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, rows_text(rows, true).c_str(), rows_text(rows, false).c_str(),
+                &s.context);
     mjr_overlay(mjFONT_NORMAL, mjGRID_BOTTOMLEFT, viewport, kHelp, nullptr, &s.context);
     ++summary.frames;
     if (options.frames > 0 && summary.frames >= options.frames) {

@@ -19,9 +19,9 @@ struct ViewerOptions {
   // Scripted runs (tests, screenshots): stop after this many frames (0: run until the window closes), each frame
   // then advancing a fixed 1/60 s of simulated time instead of the wall clock's.
   int frames = 0;
-  std::filesystem::path screenshot;             // PNG of the last frame
-  std::map<int, double> initial_commands_kpa;   // actuator index -> command
-  double default_max_kpa = physics::kRegulatorMaxPressureKpa;              // command range of actuators without ctrlrange
+  std::filesystem::path screenshot;                            // PNG of the last frame
+  std::map<int, double> initial_commands_kpa;                  // actuator index -> command
+  double default_max_kpa = physics::kRegulatorMaxPressureKpa;  // command range of actuators without ctrlrange
 };
 
 struct ViewerSummary {

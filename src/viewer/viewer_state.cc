@@ -15,13 +15,20 @@ std::optional<KeyCommand> command_for_key(int key, int mods) {
   const bool fine = (mods & GLFW_MOD_SHIFT) != 0;
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) return KeyCommand{Command::kSelect, key - GLFW_KEY_1};
   switch (key) {
-    case GLFW_KEY_UP: return KeyCommand{fine ? Command::kRaiseFinely : Command::kRaise};
-    case GLFW_KEY_DOWN: return KeyCommand{fine ? Command::kLowerFinely : Command::kLower};
-    case GLFW_KEY_0: return KeyCommand{Command::kVentAll};
-    case GLFW_KEY_SPACE: return KeyCommand{Command::kTogglePause};
-    case GLFW_KEY_BACKSPACE: return KeyCommand{Command::kReset};
-    case GLFW_KEY_V: return KeyCommand{Command::kNextCamera};
-    default: return std::nullopt;
+    case GLFW_KEY_UP:
+      return KeyCommand{fine ? Command::kRaiseFinely : Command::kRaise};
+    case GLFW_KEY_DOWN:
+      return KeyCommand{fine ? Command::kLowerFinely : Command::kLower};
+    case GLFW_KEY_0:
+      return KeyCommand{Command::kVentAll};
+    case GLFW_KEY_SPACE:
+      return KeyCommand{Command::kTogglePause};
+    case GLFW_KEY_BACKSPACE:
+      return KeyCommand{Command::kReset};
+    case GLFW_KEY_V:
+      return KeyCommand{Command::kNextCamera};
+    default:
+      return std::nullopt;
   }
 }
 
@@ -41,7 +48,8 @@ std::vector<ActuatorRange> actuator_ranges(const mjModel* model, double default_
 
 ViewerState::ViewerState(std::vector<ActuatorRange> actuators)
     : actuators_(std::move(actuators)), commands_kpa_(actuators_.size(), 0.0) {
-  for (std::size_t i = 0; i < actuators_.size(); ++i) commands_kpa_[i] = std::clamp(0.0, actuators_[i].low, actuators_[i].high);
+  for (std::size_t i = 0; i < actuators_.size(); ++i)
+    commands_kpa_[i] = std::clamp(0.0, actuators_[i].low, actuators_[i].high);
 }
 
 void ViewerState::set_command(int actuator, double pressure_kpa) {
@@ -62,21 +70,32 @@ bool ViewerState::apply(const KeyCommand& command) {
     case Command::kSelect:
       if (command.actuator >= 0 && command.actuator < static_cast<int>(actuators_.size())) selected_ = command.actuator;
       break;
-    case Command::kRaise: step(0.1); break;
-    case Command::kLower: step(-0.1); break;
-    case Command::kRaiseFinely: step(0.01); break;
-    case Command::kLowerFinely: step(-0.01); break;
+    case Command::kRaise:
+      step(0.1);
+      break;
+    case Command::kLower:
+      step(-0.1);
+      break;
+    case Command::kRaiseFinely:
+      step(0.01);
+      break;
+    case Command::kLowerFinely:
+      step(-0.01);
+      break;
     case Command::kVentAll:
       for (std::size_t i = 0; i < actuators_.size(); ++i) set_command(static_cast<int>(i), 0.0);
       break;
-    case Command::kTogglePause: paused_ = !paused_; break;
+    case Command::kTogglePause:
+      paused_ = !paused_;
+      break;
     case Command::kReset:
       for (std::size_t i = 0; i < actuators_.size(); ++i) set_command(static_cast<int>(i), 0.0);
       paused_ = false;
       return true;
     case Command::kNextCamera:
-      camera_ = camera_ == CameraMode::kRadial ? CameraMode::kPalmar
-                                               : (camera_ == CameraMode::kPalmar ? CameraMode::kFree : CameraMode::kRadial);
+      camera_ = camera_ == CameraMode::kRadial
+                    ? CameraMode::kPalmar
+                    : (camera_ == CameraMode::kPalmar ? CameraMode::kFree : CameraMode::kRadial);
       break;
   }
   return false;
@@ -90,17 +109,18 @@ std::vector<std::pair<std::string, std::string>> ViewerState::overlay(const mjMo
   for (int j = 0; j < model->njnt; ++j) {
     if (model->jnt_type[j] != mjJNT_HINGE) continue;
     const char* name = mj_id2name(model, mjOBJ_JOINT, j);
-    rows.emplace_back(name != nullptr ? name : fmt::format("joint {}", j),
-                      fmt::format("{:6.1f} deg, muscle torque {:+6.3f} N m",
-                                  units::rad_to_deg(data->qpos[model->jnt_qposadr[j]]),
-                                  data->qfrc_actuator[model->jnt_dofadr[j]]));
+    rows.emplace_back(
+        name != nullptr ? name : fmt::format("joint {}", j),
+        fmt::format("{:6.1f} deg, muscle torque {:+6.3f} N m", units::rad_to_deg(data->qpos[model->jnt_qposadr[j]]),
+                    data->qfrc_actuator[model->jnt_dofadr[j]]));
   }
   for (int u = 0; u < model->nu && u < static_cast<int>(actuators_.size()); ++u) {
     const int act = u - (model->nu - model->na);  // activations belong to the last na actuators
     const std::string regulated = act >= 0 ? fmt::format(", regulated {:5.1f}", data->act[act]) : "";
-    rows.emplace_back(fmt::format("{}{} {}", u == selected_ ? "> " : "  ", u + 1, actuators_[static_cast<std::size_t>(u)].name),
-                      fmt::format("command {:5.1f}{} kPa, pull {:5.1f} N", commands_kpa_[static_cast<std::size_t>(u)],
-                                  regulated, std::max(0.0, -data->actuator_force[u])));  // fPAMs pull: force <= 0
+    rows.emplace_back(
+        fmt::format("{}{} {}", u == selected_ ? "> " : "  ", u + 1, actuators_[static_cast<std::size_t>(u)].name),
+        fmt::format("command {:5.1f}{} kPa, pull {:5.1f} N", commands_kpa_[static_cast<std::size_t>(u)], regulated,
+                    std::max(0.0, -data->actuator_force[u])));  // fPAMs pull: force <= 0
   }
   return rows;
 }

@@ -6,6 +6,7 @@
 // is never acted on, and leaves a readable log. The same emulator in real time over a pseudo-terminal is tested for
 // behaviour in bridge_real_time_test.cc.
 
+#include <unistd.h>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -27,8 +28,8 @@
 namespace softwrist::bridge {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::has_vent;
+using ::testing::HasSubstr;
 using testing::hold;
 using testing::nominal_emulator_config;
 using testing::short_planar_config;
@@ -212,11 +213,17 @@ TEST(BridgeFaults, AControllerAskingFor500KpaIsStoppedAndVentedNotClamped) {
   EXPECT_EQ(vents.back().cause, "zero command");
   // The plant refuses such a command itself too, with nothing sent, and vents.
   plant->end_session();
-  EXPECT_THAT([&] { plant->command_pressures_kpa({500.0, 0.0, 0.0, 0.0}); },
-              ::testing::ThrowsMessage<std::logic_error>(HasSubstr("outside a session")));
+  EXPECT_THAT(
+      [&] {
+        plant->command_pressures_kpa({500.0, 0.0, 0.0, 0.0});
+      },
+      ::testing::ThrowsMessage<std::logic_error>(HasSubstr("outside a session")));
   plant->start_session();
-  EXPECT_THAT([&] { plant->command_pressures_kpa({500.0, 0.0, 0.0, 0.0}); },
-              ::testing::ThrowsMessage<BridgeFault>(HasSubstr("500 kPa for the flexor")));
+  EXPECT_THAT(
+      [&] {
+        plant->command_pressures_kpa({500.0, 0.0, 0.0, 0.0});
+      },
+      ::testing::ThrowsMessage<BridgeFault>(HasSubstr("500 kPa for the flexor")));
   EXPECT_FALSE(plant->in_session());
 }
 
@@ -238,9 +245,9 @@ TEST(BridgeFaults, TheDeviceClampsAndRejectsWhatAHostSendsWrong) {
     rig.link().run_for_ms(10);
   }
   const std::string junk = "S 40 1370 1370 1370 1370 *00\nD 1 2 3\n\x01\xff garbage\n";
-  raw->write_all(junk.data(), junk.size());  // a bad checksum, a device packet, noise
-  send(10, wire::kSetPacket, {1370, 1370, 1370, 1370});   // valid checksum, stale sequence number
-  rig.link().run_for_ms(100);                // the watchdog vents 41 ms after the last valid command
+  raw->write_all(junk.data(), junk.size());              // a bad checksum, a device packet, noise
+  send(10, wire::kSetPacket, {1370, 1370, 1370, 1370});  // valid checksum, stale sequence number
+  rig.link().run_for_ms(100);                            // the watchdog vents 41 ms after the last valid command
   const EmulatorStats stats = rig.stats();
   EXPECT_EQ(stats.max_output_dkpa, 1370);
   EXPECT_GE(stats.packets_rejected, 4);
@@ -255,8 +262,11 @@ TEST(BridgeFaults, AStalledHostIsVentedByTheDeviceAndFindsItVentedWhenItWakes) {
   plant->start_session();
   hold(*plant, {40.0, 0.0, 0.0, 0.0}, 0.5);
   rig.link().run_for_ms(300);  // the controller's process stalls; the device runs on
-  EXPECT_THAT([&] { plant->command_pressures_kpa({40.0, 0.0, 0.0, 0.0}); },
-              ::testing::ThrowsMessage<BridgeFault>(HasSubstr("watchdog")));
+  EXPECT_THAT(
+      [&] {
+        plant->command_pressures_kpa({40.0, 0.0, 0.0, 0.0});
+      },
+      ::testing::ThrowsMessage<BridgeFault>(HasSubstr("watchdog")));
   const std::vector<VentEvent> vents = rig.expect_vents_exact();
   ASSERT_EQ(vents.size(), 1u);
   EXPECT_EQ(vents[0].cause, "watchdog: no command");
@@ -269,8 +279,11 @@ TEST(BridgeFaults, TheLinkCutIsALinkFaultAndTheDeviceVentsOnItsOwn) {
   Rig rig(config);
   const auto plant = rig.plant();
   plant->start_session();
-  EXPECT_THAT([&] { hold(*plant, {40.0, 0.0, 0.0, 0.0}, 3.0); },
-              ::testing::ThrowsMessage<BridgeFault>(HasSubstr("link lost")));
+  EXPECT_THAT(
+      [&] {
+        hold(*plant, {40.0, 0.0, 0.0, 0.0}, 3.0);
+      },
+      ::testing::ThrowsMessage<BridgeFault>(HasSubstr("link lost")));
   rig.link().run_for_ms(100);
   const EmulatorStats stats = rig.stats();
   EXPECT_GT(stats.fault_injected_ms[2], 0u);
@@ -287,8 +300,11 @@ TEST(BridgeFaults, StaleImusVentWithinTheBoundAndTheHostSaysWhy) {
   Rig rig(config);
   const auto plant = rig.plant();
   plant->start_session();
-  EXPECT_THAT([&] { hold(*plant, {40.0, 0.0, 0.0, 0.0}, 3.0); },
-              ::testing::ThrowsMessage<BridgeFault>(HasSubstr("IMU")));
+  EXPECT_THAT(
+      [&] {
+        hold(*plant, {40.0, 0.0, 0.0, 0.0}, 3.0);
+      },
+      ::testing::ThrowsMessage<BridgeFault>(HasSubstr("IMU")));
   rig.link().run_for_ms(50);
   const std::vector<VentEvent> vents = rig.expect_vents_exact();
   ASSERT_FALSE(vents.empty());
@@ -337,7 +353,8 @@ TEST_F(BridgeTrial, AFaultEndsTheTrialVentedWithAReadableLog) {
 }
 
 TEST(EmulatorConfig, ReadsEffectsAndFaultsAndNamesBadFields) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "softwrist_emulator_config_test";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("softwrist_emulator_config_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto write = [&](const std::string& text) {
     std::ofstream(dir / "emulator.json") << text;
@@ -355,12 +372,18 @@ TEST(EmulatorConfig, ReadsEffectsAndFaultsAndNamesBadFields) {
   EXPECT_DOUBLE_EQ(c.effects.imu_bias_fe_deg, 1.5);
   EXPECT_DOUBLE_EQ(c.faults.link_cut_at_s, 5.0);
   EXPECT_LT(c.faults.imu_stale_at_s, 0.0);
-  EXPECT_THAT([&] { load_emulator_config(write(R"({"format": "softwrist.emulator/1", "model": "d.json",
-      "effects": {"regulator_lag": {"dead_time_s": -1}}})")); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("dead_time_s")));
-  EXPECT_THAT([&] { load_emulator_config(write(R"({"format": "softwrist.emulator/1", "model": "d.json",
-      "effects": {"imu": {"noise": 1}}})")); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("noise")));
+  EXPECT_THAT(
+      [&] {
+        load_emulator_config(write(R"({"format": "softwrist.emulator/1", "model": "d.json",
+      "effects": {"regulator_lag": {"dead_time_s": -1}}})"));
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("dead_time_s")));
+  EXPECT_THAT(
+      [&] {
+        load_emulator_config(write(R"({"format": "softwrist.emulator/1", "model": "d.json",
+      "effects": {"imu": {"noise": 1}}})"));
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("noise")));
   EXPECT_THAT([&] { load_emulator_config(write(R"({"format": "softwrist.experiment/1", "model": "d.json"})")); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("format")));
   std::filesystem::remove_all(dir);

@@ -5,8 +5,8 @@
 // interval against a deadline. The timing rules themselves are checked exactly in simulated time
 // (bridge_emulator_test.cc); the real device's timing is the firmware's (firmware/README.md).
 
-#include <atomic>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <fstream>
 #include <iterator>
@@ -42,7 +42,8 @@ class EmulatedDevice {
     PseudoTerminal pty = PseudoTerminal::Open();
     path_ = pty.slave_path;
     host_.emplace(SerialPort::Open(path_));  // opened before the emulator may close its side
-    thread_ = std::thread([this, master = std::move(pty.master)]() mutable { emulator_.serve(std::move(master), stop_); });
+    thread_ =
+        std::thread([this, master = std::move(pty.master)]() mutable { emulator_.serve(std::move(master), stop_); });
   }
   ~EmulatedDevice() {
     stop_ = true;
@@ -107,8 +108,11 @@ TEST(BridgeRealTime, ALinkCutEndsTheSessionAndTheDeviceVentsOnItsOwn) {
   EmulatedDevice device(config);
   BridgePlant plant(device.take_link(), real_time_options());
   plant.start_session();
-  EXPECT_THAT([&] { hold(plant, {40.0, 0.0, 0.0, 0.0}, 3.0); },
-              ::testing::ThrowsMessage<BridgeFault>(HasSubstr("link lost")));
+  EXPECT_THAT(
+      [&] {
+        hold(plant, {40.0, 0.0, 0.0, 0.0}, 3.0);
+      },
+      ::testing::ThrowsMessage<BridgeFault>(HasSubstr("link lost")));
   const EmulatorStats stats = device.vented_stats();
   EXPECT_GT(stats.fault_injected_ms[2], 0u);
   EXPECT_TRUE(stats.vented);
@@ -124,8 +128,9 @@ TEST_F(BridgeRealTimeTrial, AKilledTrialLeavesTheDeviceVentedAndItsRowsReadable)
   EmulatedDevice device(real_time_config());
   const std::filesystem::path config = dir_ / "short_planar.json";
   std::ofstream(config) << short_planar_config(dir_).json.dump();
-  const std::vector<std::string> trial = {SOFTWRIST_BINARY, "trial", config.string(), "--device", device.path(),
-                                          "--out", (dir_ / "hw").string(), "--rest-s", "0.5", "--timeout-ms", "500"};
+  const std::vector<std::string> trial = {
+      SOFTWRIST_BINARY,       "trial",    config.string(), "--device",     device.path(), "--out",
+      (dir_ / "hw").string(), "--rest-s", "0.5",           "--timeout-ms", "500"};
   // During the first run's steps (about 640 rows of 14 ms), after a random number of rows: a moment chosen by the
   // trial's progress, not by this host's speed.
   std::mt19937 rng(std::random_device{}());
@@ -135,8 +140,8 @@ TEST_F(BridgeRealTimeTrial, AKilledTrialLeavesTheDeviceVentedAndItsRowsReadable)
     std::ifstream csv(dir_ / "hw" / "trials.csv");
     return static_cast<std::size_t>(std::count(std::istreambuf_iterator<char>(csv), {}, '\n'));
   };
-  ASSERT_TRUE(testing::start_and_kill_when(trial, [&] { return rows_written() > kill_after_rows; },
-                                           std::chrono::seconds(120)));
+  ASSERT_TRUE(testing::start_and_kill_when(
+      trial, [&] { return rows_written() > kill_after_rows; }, std::chrono::seconds(120)));
   EXPECT_GT(rows_written(), kill_after_rows);
   const EmulatorStats stats = device.vented_stats();
   EXPECT_TRUE(stats.vented);

@@ -1,5 +1,5 @@
-// The lock-step rig (bridge_apps/lockstep_link.h): the line's rate, the host's clock, the cable, the faults on the line.
-// (The bridge and the emulator on it: bridge_emulator_test.cc.)
+// The lock-step rig (bridge_apps/lockstep_link.h): the line's rate, the host's clock, the cable, the faults on the
+// line. (The bridge and the emulator on it: bridge_emulator_test.cc.)
 
 #include "bridge_apps/lockstep_link.h"
 
@@ -37,8 +37,8 @@ TEST(LockstepLink, TheLineCarriesBytesAtTheUartsRateAndTheHostsClockIsTheRigs) {
     most = std::max(most, n);
     busy_ms += n > 0 ? 1 : 0;
   }
-  EXPECT_LE(most, 12u);   // the line's rate
-  EXPECT_GE(most, 11u);   // reached while a packet is on the line
+  EXPECT_LE(most, 12u);          // the line's rate
+  EXPECT_GE(most, 11u);          // reached while a packet is on the line
   EXPECT_GE(total, 100u * 30u);  // a hundred packets of 30+ bytes
   EXPECT_GE(static_cast<double>(busy_ms), static_cast<double>(total) / 11.52 - 1.0);  // each byte its time
 }
@@ -56,8 +56,11 @@ TEST(LockstepLink, ALinkCutIsGoneForTheHostAndTheCableStaysOut) {
   char line[wire::kMaxLine + 2];
   host->write_all(line, wire::format_packet(p, line, sizeof line));
   char buffer[64];
-  EXPECT_THAT([&] { for (int k = 0; k < 50; ++k) host->read_some(buffer, sizeof buffer, 1); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("the link is gone")));
+  EXPECT_THAT(
+      [&] {
+        for (int k = 0; k < 50; ++k) host->read_some(buffer, sizeof buffer, 1);
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("the link is gone")));
   EXPECT_FALSE(rig.cable_in());
   EXPECT_THAT([&] { rig.open_host(); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("the cable is out")));
 }
@@ -102,7 +105,7 @@ TEST(LockstepLink, FaultsOnTheLineFollowTheirScheduleAndActOnTheBytes) {
   }
   EXPECT_EQ(cuts_seen, cuts);
   EXPECT_EQ(while_blocked, 0);  // a stall lets nothing through
-  EXPECT_GT(received, 20000);  // 20 s of 100 Hz data packets (~5 kB/s), less the faults (about half the time)
+  EXPECT_GT(received, 20000);   // 20 s of 100 Hz data packets (~5 kB/s), less the faults (about half the time)
 
   DeviceEmulator again_emulator(nominal_emulator_config());
   LockstepLink again(again_emulator, {.faults = LineFaultOptions{.mean_interval_s = 0.2, .seed = 7}});

@@ -94,7 +94,8 @@ TYPED_TEST(PlantContract, ACommandOutsideTheRangeOrNanVentsAndThrowsNamingTheMus
   const struct {
     control::Pressures command;
     std::string muscle;
-  } bad[] = {{{60.0, 137.5, 0.0, 0.0}, "extensor"}, {{60.0, 0.0, -1.0, 0.0}, "ulnar"}, {{60.0, 0.0, 0.0, NAN}, "radial"}};
+  } bad[] = {
+      {{60.0, 137.5, 0.0, 0.0}, "extensor"}, {{60.0, 0.0, -1.0, 0.0}, "ulnar"}, {{60.0, 0.0, 0.0, NAN}, "radial"}};
   for (const auto& b : bad) {
     TypeParam rig;  // a fresh plant each time: a fault may end the bridge's session
     control::Plant& plant = rig.plant();

@@ -62,8 +62,8 @@ TEST(SafetyGate, WatchdogVentsAndLatchesOnAMissingCommand) {
     update(gate, t);
   }
   gate.imu_reading(true, 70);
-  EXPECT_EQ(update(gate, 70).p[0], 100);   // 30 ms after the last command: still within 40 ms
-  EXPECT_EQ(update(gate, 81).p[0], 0);     // 41 ms: vented
+  EXPECT_EQ(update(gate, 70).p[0], 100);  // 30 ms after the last command: still within 40 ms
+  EXPECT_EQ(update(gate, 81).p[0], 0);    // 41 ms: vented
   EXPECT_TRUE(gate.flags(81) & kWatchdog);
   gate.command(request, 90);
   gate.imu_reading(true, 90);

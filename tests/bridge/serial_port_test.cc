@@ -40,15 +40,18 @@ TEST(SerialPort, RawBytesBothWaysOverAPseudoTerminal) {
 TEST(SerialPort, ErrorsNameTheDevice) {
   EXPECT_THAT([] { SerialPort::Open("/dev/softwrist-no-such-device"); },
               ThrowsMessage<std::runtime_error>(HasSubstr("/dev/softwrist-no-such-device: cannot open")));
-  EXPECT_THAT([] { SerialPort::Open("/dev/null"); }, ThrowsMessage<std::runtime_error>(HasSubstr("/dev/null: not a serial device")));
-  EXPECT_THAT([] { SerialPort::Open("/dev/null", 1234); }, ThrowsMessage<std::runtime_error>(HasSubstr("unsupported baud rate 1234")));
+  EXPECT_THAT([] { SerialPort::Open("/dev/null"); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("/dev/null: not a serial device")));
+  EXPECT_THAT([] { SerialPort::Open("/dev/null", 1234); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("unsupported baud rate 1234")));
   std::optional<SerialPort> host;
   {
     PseudoTerminal pty = PseudoTerminal::Open();
     host.emplace(SerialPort::Open(pty.slave_path));
   }  // the emulator's side closes
   char buffer[8];
-  EXPECT_THAT([&] { host->read_some(buffer, sizeof buffer, 100); }, ThrowsMessage<std::runtime_error>(HasSubstr("the link is gone")));
+  EXPECT_THAT([&] { host->read_some(buffer, sizeof buffer, 100); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("the link is gone")));
 }
 
 }  // namespace

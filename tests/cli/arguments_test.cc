@@ -15,8 +15,8 @@ TEST(ParseAngleRange, InclusiveRangeOfThePapersAngles) {
 }
 
 TEST(ParseAngleRange, RejectsMalformedRangesNamingTheOption) {
-  for (const char* bad : {"", "1:2", "1:2:3:4", "a:2:1", "0:10:0", "0:10:-1", "10:0:1", "-200:0:1", "0:1:nan",
-                          "0:180:1e-9", "0:1:1x"}) {
+  for (const char* bad :
+       {"", "1:2", "1:2:3:4", "a:2:1", "0:10:0", "0:10:-1", "10:0:1", "-200:0:1", "0:1:nan", "0:180:1e-9", "0:1:1x"}) {
     try {
       parse_angle_range_deg(bad, "--angles");
       FAIL() << "accepted '" << bad << "'";

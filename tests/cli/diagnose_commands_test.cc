@@ -30,7 +30,8 @@ TEST_F(CliDiagnose, SynthesizeImportAndDiagnoseWriteTheReport) {
   EXPECT_TRUE(fs::exists(dir_ / "real/real_device.json"));
   // The user's own range-of-motion measurements, imported beside the synthesized logs.
   std::ofstream(dir_ / "rom.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\nextensor,137,50\n";
-  const auto imported = run({"import", (dir_ / "rom.csv").string(), "--kind", "rom", "--out", (dir_ / "real/mine").string()});
+  const auto imported =
+      run({"import", (dir_ / "rom.csv").string(), "--kind", "rom", "--out", (dir_ / "real/mine").string()});
   ASSERT_EQ(imported.code, 0) << imported.err;
   EXPECT_THAT(imported.out, HasSubstr("(2 rows)"));
 
@@ -60,7 +61,9 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
   const std::vector<Case> cases = {
       {{"diagnose", "--real", (dir_ / "nowhere").string(), "--model", model}, 1, "not a directory of trial logs"},
       {{"diagnose", "--real", empty, "--model", model}, 1, "no trial logs found"},
-      {{"diagnose", "--real", empty, "--model", model, "--effects", "friction"}, 2, "'friction' is not in the catalogue"},
+      {{"diagnose", "--real", empty, "--model", model, "--effects", "friction"},
+       2,
+       "'friction' is not in the catalogue"},
       {{"diagnose", "--real", empty, "--model", (dir_ / "none.json").string()}, 1, "none.json"},
       {{"diagnose", "--real", empty, "--model", model, "--bootstrap", "3"}, 2, "--bootstrap must be >= 20"},
       {{"diagnose", "--model", model}, 0, "--real is required"},

@@ -63,8 +63,9 @@ TEST_F(InterruptedRun, KilledRunKeepsItsRowsSaysHowToResumeAndResumesToTheSameNu
         std::uniform_int_distribution<long>(whole_ms.count() / 20, whole_ms.count() * 4 / 5)(rng));
     SCOPED_TRACE("killed after " + std::to_string(delay.count()) + " ms of a " + std::to_string(whole_ms.count()) +
                  " ms run");
-    if (!testing::start_and_kill(run_args(config, out), delay)) continue;  // finished first (a fast machine): nothing to test
-    if (!fs::exists(out / "trials.json")) continue;               // killed before it wrote anything
+    if (!testing::start_and_kill(run_args(config, out), delay))
+      continue;                                      // finished first (a fast machine): nothing to test
+    if (!fs::exists(out / "trials.json")) continue;  // killed before it wrote anything
     EXPECT_FALSE(fs::exists(out / "summary.json"));
 
     // Every row written before the kill reads back, and is the uninterrupted run's row.
@@ -121,7 +122,8 @@ TEST_F(InterruptedRun, ResumeRefusesAnotherConfigAndAFinishedRun) {
 
   fs::remove(dir_ / "whole" / "summary.json");
   const std::string text = read("torque.json");
-  std::ofstream(config, std::ios::trunc) << text.substr(0, text.find("\"seed\": 7")) + "\"seed\": 8, \"hold_time_s\": 8}";
+  std::ofstream(config, std::ios::trunc) << text.substr(0, text.find("\"seed\": 7")) +
+                                                "\"seed\": 8, \"hold_time_s\": 8}";
   EXPECT_EQ(run(resume, "other"), 1);
   EXPECT_THAT(read("other.err"), HasSubstr("its run had another config"));
 }

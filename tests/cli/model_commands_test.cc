@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "cli/run_cli_for_test.h"
@@ -32,9 +33,8 @@ TEST(ModelTorque, DefaultsToTheTorqueRigFlexorAndMatchesThePhysicsCore) {
 
 // The design-optimization curve from the command line, as the issue states it.
 TEST(ModelTorque, DesignCurveStopsWrappingNearMinusOneDegree) {
-  const auto r = run({"model", "torque", "--pressure-kpa", "137", "--angles", "-2:0:0.1", "--placement",
-                      "22,3.5,9,1.5", "--L0-from-angle", "-65.4", "--rw", "2", "--r0", "1.23", "--eps-max", "0.28",
-                      "--json"});
+  const auto r = run({"model", "torque", "--pressure-kpa", "137", "--angles", "-2:0:0.1", "--placement", "22,3.5,9,1.5",
+                      "--L0-from-angle", "-65.4", "--rw", "2", "--r0", "1.23", "--eps-max", "0.28", "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = json::parse(r.out);
   EXPECT_EQ(j["regime"].front(), "wrapping");
@@ -62,7 +62,8 @@ TEST(ModelRom, PrintsFourLimitsBesideThePapers) {
 }
 
 TEST(ModelTables, WritesTheMainJobsFiles) {
-  const auto dir = std::filesystem::temp_directory_path() / "softwrist_model_tables_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("softwrist_model_tables_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   const auto r = run({"model", "tables", "--out", dir.string()});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -75,7 +76,8 @@ TEST(ModelTables, WritesTheMainJobsFiles) {
 
 // `model build` writes a model that loads with the plugin; from a placement file it equals the shipped model.
 TEST(ModelBuild, WritesTheModelOfAPlacementFile) {
-  const auto out = std::filesystem::temp_directory_path() / "softwrist_model_build_test.xml";
+  const auto out =
+      std::filesystem::temp_directory_path() / ("softwrist_model_build_test_" + std::to_string(::getpid()) + ".xml");
   const auto r = run({"model", "build", "--placement", std::string(SOFTWRIST_SOURCE_DIR) + "/models/paper_device.json",
                       "--out", out.string()});
   ASSERT_EQ(r.code, 0) << r.err;

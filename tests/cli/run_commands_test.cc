@@ -13,11 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/run_cli_for_test.h"
-#include "support/scratch_dir_test.h"
 #include "optimize/design_optimizer.h"
 #include "optimize/personalize.h"
 #include "sim/device.h"
 #include "sim/model.h"
+#include "support/scratch_dir_test.h"
 
 namespace softwrist::cli {
 namespace {
@@ -31,7 +31,8 @@ using CliRun = softwrist::testing::ScratchDirTest;
 TEST_F(CliRun, RunShardsAndMerge) {
   const std::string config = (kSource / "experiments/range_of_motion.json").string();
   for (const char* shard : {"1/2", "2/2"}) {
-    const auto r = run({"run", config, "--quiet", "--shard", shard, "--out", (dir_ / (std::string("s") + shard[0])).string()});
+    const auto r =
+        run({"run", config, "--quiet", "--shard", shard, "--out", (dir_ / (std::string("s") + shard[0])).string()});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_THAT(r.out, HasSubstr("softwrist merge"));
   }
@@ -54,7 +55,8 @@ TEST_F(CliRun, RunShardsAndMerge) {
 // flexor's equals the design optimization of the same problem, and the written files load.
 TEST_F(CliRun, PersonalizeWritesALoadablePlacementAndModel) {
   auto user = nlohmann::json::parse(std::ifstream(kSource / "experiments/example_user.json"));
-  for (auto& [muscle, file] : user["references"].items()) file = (kSource / "experiments" / file.get<std::string>()).string();
+  for (auto& [muscle, file] : user["references"].items())
+    file = (kSource / "experiments" / file.get<std::string>()).string();
   user["start_resolution_cm"] = {{"d1", 5.0}, {"w1", 1.5}, {"d2", 2.5}, {"w2", 1.0}};
   std::ofstream(dir_ / "user.json") << user.dump();
   const auto r = run({"personalize", "--user", (dir_ / "user.json").string(), "--out", (dir_ / "out").string()});
@@ -65,7 +67,8 @@ TEST_F(CliRun, PersonalizeWritesALoadablePlacementAndModel) {
     const auto& p = device.muscles[static_cast<std::size_t>(i)].placement;
     const auto& b = described.bounds[static_cast<std::size_t>(i)];
     EXPECT_TRUE(p.d1 >= b.lower.d1 && p.d1 <= b.upper.d1 && p.w1 >= b.lower.w1 && p.w1 <= b.upper.w1 &&
-                p.d2 >= b.lower.d2 && p.d2 <= b.upper.d2 && p.w2 >= b.lower.w2 && p.w2 <= b.upper.w2) << i;
+                p.d2 >= b.lower.d2 && p.d2 <= b.upper.d2 && p.w2 >= b.lower.w2 && p.w2 <= b.upper.w2)
+        << i;
   }
   optimize::OptimizerOptions options;
   options.start_resolution = described.start_resolution;
@@ -82,11 +85,12 @@ TEST_F(CliRun, PersonalizeWritesALoadablePlacementAndModel) {
 }
 
 TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
-  const auto r = run({"bench", "optimize", "--json", "--config", (kSource / "experiments/design_optimization.json").string(),
-                      "--exhaustive-resolution-cm", "1"});
+  const auto r = run({"bench", "optimize", "--json", "--config",
+                      (kSource / "experiments/design_optimization.json").string(), "--exhaustive-resolution-cm", "1"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum"}) EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum"})
+    EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["placement_cm"].size(), 4u);
   EXPECT_TRUE(j["same_optimum"].get<bool>());
 }
@@ -95,7 +99,8 @@ TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
 // its real-time factor (the figure itself is the benchmark's business, not a test's); a config of another kind is
 // refused.
 TEST(CliBench, ControlReportsEveryControllerOverTheTrajectory) {
-  const auto r = run({"bench", "control", "--json", "--config", (kSource / "experiments/planar_tracking.json").string()});
+  const auto r =
+      run({"bench", "control", "--json", "--config", (kSource / "experiments/planar_tracking.json").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["controllers"].size(), 2u);

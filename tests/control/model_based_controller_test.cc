@@ -33,10 +33,13 @@ TEST(ModelBasedController, FeedforwardBalancesTheAnalyticStatics) {
       p = controller.command(k * 0.014, {.angles = target}, at(target.fe_deg, target.ur_deg, k * 0.014));
     }
     const double fe = units::deg_to_rad(target.fe_deg), ur = units::deg_to_rad(target.ur_deg);
-    EXPECT_NEAR(physics::axis_torques(wrist, WristAxis::kFlexionExtension, fe, units::kpa_to_pa(p[0]),
-                                      units::kpa_to_pa(p[1])).net(), 0.0, 1e-6);
-    EXPECT_NEAR(physics::axis_torques(wrist, WristAxis::kUlnarRadial, ur, units::kpa_to_pa(p[2]),
-                                      units::kpa_to_pa(p[3])).net(), 0.0, 1e-6);
+    EXPECT_NEAR(
+        physics::axis_torques(wrist, WristAxis::kFlexionExtension, fe, units::kpa_to_pa(p[0]), units::kpa_to_pa(p[1]))
+            .net(),
+        0.0, 1e-6);
+    EXPECT_NEAR(
+        physics::axis_torques(wrist, WristAxis::kUlnarRadial, ur, units::kpa_to_pa(p[2]), units::kpa_to_pa(p[3])).net(),
+        0.0, 1e-6);
     EXPECT_FALSE(controller.unreachable()[0]);
     EXPECT_FALSE(controller.unreachable()[1]);
   }

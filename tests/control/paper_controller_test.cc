@@ -18,8 +18,11 @@ TEST(PaperController, UpdateRuleOnAHandComputedSequence) {
   struct Step {
     double desired_fe, flexor, extensor;
   };
-  const Step steps[] = {{10.0, 13.883, 13.717}, {10.0, 13.966, 13.634}, {-10.0, 13.800, 13.717},
-                        {-10.0, 13.717, 13.800}, {-10.0, 13.634, 13.883}};
+  const Step steps[] = {{10.0, 13.883, 13.717},
+                        {10.0, 13.966, 13.634},
+                        {-10.0, 13.800, 13.717},
+                        {-10.0, 13.717, 13.800},
+                        {-10.0, 13.634, 13.883}};
   for (const Step& s : steps) {
     const Pressures& p = controller.update({.fe_deg = s.desired_fe, .ur_deg = 0.0}, zero);
     EXPECT_NEAR(p[0], s.flexor, 1e-12);

@@ -77,8 +77,8 @@ TEST(TrackingLoop, ZeroesClampsVentsAndCountsIterations) {
 // On hardware (OutOfRange::kStop) a command outside the regulator range is a controller fault: the plant is vented
 // and the run stops with the muscle and the value named; nothing out of range reaches the plant.
 TEST(TrackingLoop, StopsAndVentsOnAnOutOfRangeCommandWhenAskedTo) {
-  for (const Pressures& bad : {Pressures{250.0, 0.0, 0.0, 0.0}, Pressures{0.0, NAN, 0.0, 0.0},
-                               Pressures{0.0, 0.0, 0.0, -3.0}}) {
+  for (const Pressures& bad :
+       {Pressures{250.0, 0.0, 0.0, 0.0}, Pressures{0.0, NAN, 0.0, 0.0}, Pressures{0.0, 0.0, 0.0, -3.0}}) {
     ScriptedPlant plant;
     FixedController controller(bad);
     const StepTrajectory hold({{0.0, 0.0}}, 2.0);
@@ -96,8 +96,9 @@ TEST(TrackingLoop, StopsAndVentsOnAnOutOfRangeCommandWhenAskedTo) {
     run_tracking(plant, controller, StepTrajectory({{0.0, 0.0}}, 1.0), options, nullptr);
     FAIL() << "no fault";
   } catch (const ControllerFault& e) {
-    EXPECT_STREQ(e.what(), "controller 'fixed' asked for 250 kPa on the flexor at t = 0.000 s, outside the "
-                           "regulators' 0-100 kPa: vented and stopped");
+    EXPECT_STREQ(e.what(),
+                 "controller 'fixed' asked for 250 kPa on the flexor at t = 0.000 s, outside the "
+                 "regulators' 0-100 kPa: vented and stopped");
   }
 }
 

@@ -30,7 +30,7 @@ TEST(StepTrajectory, HoldsEachLevelForItsTime) {
 TEST(SinusoidTrajectory, SpansThePaperLimitsWithAQuarterPeriodLag) {
   const SinusoidTrajectory ellipse({});
   EXPECT_EQ(ellipse.duration_s(), 72.0);
-  EXPECT_NEAR(ellipse.at(6.0).fe_deg, 30.0, 1e-12);   // FE peaks a quarter period in
+  EXPECT_NEAR(ellipse.at(6.0).fe_deg, 30.0, 1e-12);  // FE peaks a quarter period in
   EXPECT_NEAR(ellipse.at(18.0).fe_deg, -40.0, 1e-12);
   EXPECT_NEAR(ellipse.at(12.0).ur_deg, 30.0, 1e-12);  // UR peaks a quarter period later
   EXPECT_NEAR(ellipse.at(0.0).ur_deg, -10.0, 1e-12);

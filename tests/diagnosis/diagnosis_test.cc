@@ -22,7 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-sim::DeviceDescription paper_device() { return sim::load_device(fs::path(SOFTWRIST_SOURCE_DIR) / "models/paper_device.json"); }
+sim::DeviceDescription paper_device() {
+  return sim::load_device(fs::path(SOFTWRIST_SOURCE_DIR) / "models/paper_device.json");
+}
 
 class DiagnosisTest : public testing::ScratchDirTest {
  protected:
@@ -30,8 +32,7 @@ class DiagnosisTest : public testing::ScratchDirTest {
   Diagnosis run(const SyntheticDevice& real, const sim::DeviceDescription& nominal, std::vector<EffectId> effects = {},
                 SyntheticPlan plan = {.trajectory_s = 12.0}) {
     write_synthetic_data(real, plan, dir_ / "real");
-    return diagnose(load_real_data(dir_ / "real"), nominal, engine_,
-                    {.effects = std::move(effects), .bootstrap = 100});
+    return diagnose(load_real_data(dir_ / "real"), nominal, engine_, {.effects = std::move(effects), .bootstrap = 100});
   }
   const EffectFit& fit_of(const Diagnosis& d, EffectId id) {
     for (const auto& f : d.effects) {
@@ -121,8 +122,8 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
 // A regulator's dead time and an IMU's latency delay the replayed angles alike; the measured pressures
 // (p_<muscle>_kpa, as the bridge logs them) show which one it is: only the regulator delays the pressures.
 TEST_F(DiagnosisTest, MeasuredPressuresTellRegulatorDeadTimeFromImuLatency) {
-  const SyntheticPlan trajectory_only{.torque_sweep = false, .range_of_motion = false, .tensile = false,
-                                      .trajectory_s = 12.0};
+  const SyntheticPlan trajectory_only{
+      .torque_sweep = false, .range_of_motion = false, .tensile = false, .trajectory_s = 12.0};
   const std::vector<EffectId> both = {EffectId::kRegulatorLag, EffectId::kImuBias};
   {
     const auto d = run({.device = paper_device(), .regulator_dead_time = 0.08}, paper_device(), both, trajectory_only);
@@ -151,8 +152,8 @@ TEST_F(DiagnosisTest, MeasuredPressuresTellRegulatorDeadTimeFromImuLatency) {
 TEST_F(DiagnosisTest, WristRadiusChangeIsLocalisedInTheWrappingRange) {
   SyntheticDevice real{.device = paper_device()};
   for (auto& m : real.device.muscles) m.wrist_radius *= 0.85;
-  const Diagnosis d = run(real, paper_device(), {EffectId::kWrapGeometry}, {.range_of_motion = false, .tensile = false,
-                                                                               .trajectory = false});
+  const Diagnosis d = run(real, paper_device(), {EffectId::kWrapGeometry},
+                          {.range_of_motion = false, .tensile = false, .trajectory = false});
   const LocalizationEntry* first_angle = nullptr;
   bool wrapping_significant = false, straight_significant = true;
   for (const auto& e : d.localization) {
@@ -227,20 +228,24 @@ TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(write("a.csv", "angle,pressure_kpa,torque_nm\n0,34,1\n"), "torque-sweep").find("column 'angle' states no unit"),
+  EXPECT_NE(message(write("a.csv", "angle,pressure_kpa,torque_nm\n0,34,1\n"), "torque-sweep")
+                .find("column 'angle' states no unit"),
             std::string::npos);
-  EXPECT_NE(message(write("b.csv", "angle_deg,pressure_psi,torque_nm\n0,5,1\n"), "torque-sweep").find("unit 'psi' is not read"),
+  EXPECT_NE(message(write("b.csv", "angle_deg,pressure_psi,torque_nm\n0,5,1\n"), "torque-sweep")
+                .find("unit 'psi' is not read"),
             std::string::npos);
   EXPECT_NE(message(write("c.csv", "angle_deg,pressure_kpa,torque_nm\n0,34,1\n# a note\n10,nan,2\n"), "torque-sweep")
                 .find("c.csv:4: pressure_kpa"),
             std::string::npos);
-  EXPECT_NE(message(write("d.csv", "pressure_kpa,contraction,force_n,direction\n34,0.1,20,up\n"), "tensile").find("'up'"),
-            std::string::npos);
+  EXPECT_NE(
+      message(write("d.csv", "pressure_kpa,contraction,force_n,direction\n34,0.1,20,up\n"), "tensile").find("'up'"),
+      std::string::npos);
   EXPECT_NE(message(write("e.csv", "x\n1\n"), "speed").find("--kind"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "out/trials.csv"));
 
-  const auto result = import_csv(write("ok.csv", "angle_deg,pressure_kpa,torque_nm,repetition\n0,34,1.5,0\n10,34,1.2,1\n"),
-                                 dir_ / "out", {.kind = "torque-sweep"});
+  const auto result =
+      import_csv(write("ok.csv", "angle_deg,pressure_kpa,torque_nm,repetition\n0,34,1.5,0\n10,34,1.2,1\n"),
+                 dir_ / "out", {.kind = "torque-sweep"});
   EXPECT_EQ(result.rows, 2u);
   const auto trials = read_trials(dir_ / "out/trials.json", "out");
   ASSERT_EQ(trials.size(), 1u);

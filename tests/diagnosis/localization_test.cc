@@ -59,8 +59,8 @@ TEST(Localization, GroupTestPValuesAreUniformUnderTheNull) {
   std::sort(p.begin(), p.end());
   double ks = 0.0;  // Kolmogorov-Smirnov distance to U(0, 1)
   for (int i = 0; i < kTrials; ++i) {
-    ks = std::max({ks, std::abs(p[i] - static_cast<double>(i) / kTrials),
-                   std::abs(p[i] - static_cast<double>(i + 1) / kTrials)});
+    ks = std::max(
+        {ks, std::abs(p[i] - static_cast<double>(i) / kTrials), std::abs(p[i] - static_cast<double>(i + 1) / kTrials)});
   }
   EXPECT_LT(ks, 1.63 / std::sqrt(kTrials)) << "KS critical value at the 1 % level";
   // The false alarms at alpha = 0.01 and 0.05, within 4 binomial standard deviations of their rate.

@@ -1,5 +1,6 @@
 // The paper's experiments in simulation, checked against the analytic model (src/physics) they must agree with.
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 const fs::path kSource = SOFTWRIST_SOURCE_DIR;
 
 nlohmann::json run(const std::string& name, const std::string& body) {
-  const fs::path dir = fs::temp_directory_path() / ("softwrist_experiments_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("softwrist_experiments_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "config.json") << body;
@@ -47,9 +48,11 @@ TEST(RangeOfMotionExperiment, SettledAnglesAgreeWithTheAnalyticStatics) {
 // (the paper's ordering, 0.283 < 1.111 N m). With exact markers the motion-capture placement gives the
 // self-consistent torque too (the stretched mounts stay on the line of action).
 TEST(TorqueValidationExperiment, StretchingMethodsOrderAsInThePaper) {
-  const auto summary = run("torque", R"({"format": "softwrist.experiment/1", "kind": "torque_validation", "model": ")" +
-                                         (kSource / "models/paper_device.json").string() +
-                                         R"(", "repetitions": 1, "sensor_noise": {"torque_std_nm": 0, "angle_jitter_deg": 0, "marker_std_mm": 0}})");
+  const auto summary = run(
+      "torque",
+      R"({"format": "softwrist.experiment/1", "kind": "torque_validation", "model": ")" +
+          (kSource / "models/paper_device.json").string() +
+          R"(", "repetitions": 1, "sensor_noise": {"torque_std_nm": 0, "angle_jitter_deg": 0, "marker_std_mm": 0}})");
   const auto& mae = summary["mae_nm"];
   EXPECT_LT(mae["fixed_stretch_selfconsistent"].get<double>(), 0.03);
   EXPECT_LT(mae["motion_capture"].get<double>(), 0.03);
@@ -57,7 +60,6 @@ TEST(TorqueValidationExperiment, StretchingMethodsOrderAsInThePaper) {
   EXPECT_LT(2.0 * mae["fixed_stretch"].get<double>(), mae["fixed_no_stretch"].get<double>());
   EXPECT_EQ(summary["groups"].size(), 40u);
 }
-
 
 // A shipped config with its model path made absolute and fewer repetitions.
 std::string shipped_config(const std::string& name, int repetitions) {

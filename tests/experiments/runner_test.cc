@@ -85,7 +85,8 @@ TEST_F(RunnerTest, ShardsMergeToTheSingleRun) {
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("case 0 is also in"));
   }
-  run_experiment(config(R"(, "sensor_noise": {"torque_std_nm": 0.5})"), {.out = dir_ / "other", .shard_index = 2, .shard_count = 3});
+  run_experiment(config(R"(, "sensor_noise": {"torque_std_nm": 0.5})"),
+                 {.out = dir_ / "other", .shard_index = 2, .shard_count = 3});
   try {
     merge_runs({shards[0], dir_ / "other", shards[2]}, dir_ / "mixed");
     ADD_FAILURE() << "merged shards of two configs";
@@ -118,28 +119,38 @@ TEST_F(RunnerTest, BadConfigsNameTheFileAndTheField) {
               HasSubstr("bad.json: model: missing"));
   EXPECT_THAT(error_of(R"({"format": "softwrist.experiment/1", "kind": "torque_validation", "model": "nope.json"})"),
               HasSubstr("bad.json: model: no such file"));
-  const std::string head = R"({"format": "softwrist.experiment/1", "kind": "torque_validation", "model": ")" + model + "\", ";
+  const std::string head =
+      R"({"format": "softwrist.experiment/1", "kind": "torque_validation", "model": ")" + model + "\", ";
   EXPECT_THAT(error_of(head + R"("pressures_kpa": [68, 500]})"), HasSubstr("bad.json: pressures_kpa: 500 is outside"));
-  EXPECT_THAT(error_of(head + R"("pressures_kpa": [68, "x"]})"), HasSubstr("bad.json: pressures_kpa[1]: must be a finite number"));
+  EXPECT_THAT(error_of(head + R"("pressures_kpa": [68, "x"]})"),
+              HasSubstr("bad.json: pressures_kpa[1]: must be a finite number"));
   EXPECT_THAT(error_of(head + R"("repetitons": 3})"), HasSubstr("bad.json: repetitons: unknown field"));
-  EXPECT_THAT(error_of(head + R"("sensor_noise": {"torque_std_nm": -1}})"), HasSubstr("bad.json: sensor_noise.torque_std_nm: must be >= 0"));
+  EXPECT_THAT(error_of(head + R"("sensor_noise": {"torque_std_nm": -1}})"),
+              HasSubstr("bad.json: sensor_noise.torque_std_nm: must be >= 0"));
   EXPECT_THAT(error_of(head + R"("muscle": "biceps"})"), HasSubstr("bad.json: muscle: 'biceps'"));
   const std::string design = R"({"format": "softwrist.experiment/1", "kind": "design_optimization", "reference": ")" +
                              (kSource / "experiments/reference/flexion_torque_example.csv").string() + "\", ";
   EXPECT_THAT(error_of(design + "\"samples\": 140}"), HasSubstr("bad.json: max_stretch_angle_deg: missing"));
   EXPECT_THAT(error_of(design + R"("max_stretch_angle_deg": -65.4, "algorithm": "simplex"})"),
               HasSubstr("bad.json: (top level): unknown optimizer algorithm 'simplex'"));
-  EXPECT_THAT(error_of(design + R"("max_stretch_angle_deg": -65.4, "bounds_cm": {"lower": {"d1": 2, "w1": 3.5, "d2": 1.5}, "upper": {"d1": 22, "w1": 5, "d2": 9, "w2": 3.5}}})"),
-              HasSubstr("bad.json: bounds_cm.lower.w2: missing"));
+  EXPECT_THAT(
+      error_of(
+          design +
+          R"("max_stretch_angle_deg": -65.4, "bounds_cm": {"lower": {"d1": 2, "w1": 3.5, "d2": 1.5}, "upper": {"d1": 22, "w1": 5, "d2": 9, "w2": 3.5}}})"),
+      HasSubstr("bad.json: bounds_cm.lower.w2: missing"));
   std::ofstream(dir_ / "bad_reference.csv") << "angle_deg,torque_nm\n0,1\n10,oops\n";
-  const std::string bad_reference = R"({"format": "softwrist.experiment/1", "kind": "design_optimization", "reference": "bad_reference.csv", "max_stretch_angle_deg": -65.4})";
+  const std::string bad_reference =
+      R"({"format": "softwrist.experiment/1", "kind": "design_optimization", "reference": "bad_reference.csv", "max_stretch_angle_deg": -65.4})";
   EXPECT_THAT(error_of(bad_reference), HasSubstr("bad_reference.csv:3: torque_nm: not a number: 'oops'"));
-  const std::string tracking = R"({"format": "softwrist.experiment/1", "kind": "tracking", "model": ")" + model + "\", ";
+  const std::string tracking =
+      R"({"format": "softwrist.experiment/1", "kind": "tracking", "model": ")" + model + "\", ";
   const std::string steps = R"("trajectory": {"type": "steps", "levels_fe_deg": [0, 10]}, )";
-  EXPECT_THAT(error_of(tracking + R"("controllers": [{"name": "paper"}]})"), HasSubstr("bad.json: trajectory: missing"));
+  EXPECT_THAT(error_of(tracking + R"("controllers": [{"name": "paper"}]})"),
+              HasSubstr("bad.json: trajectory: missing"));
   EXPECT_THAT(error_of(tracking + R"("trajectory": {"type": "zigzag"}, "controllers": [{"name": "paper"}]})"),
               HasSubstr("bad.json: trajectory.type: 'zigzag' is not steps or sinusoid"));
-  EXPECT_THAT(error_of(tracking + R"("trajectory": {"type": "sinusoid", "fe_min_deg": 40}, "controllers": [{"name": "paper"}]})"),
+  EXPECT_THAT(error_of(tracking +
+                       R"("trajectory": {"type": "sinusoid", "fe_min_deg": 40}, "controllers": [{"name": "paper"}]})"),
               HasSubstr("bad.json: trajectory.fe_min_deg: is above fe_max_deg"));
   EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "bang_bang"}]})"),
               HasSubstr("bad.json: controllers[0].name: 'bang_bang' is not paper or model_based"));
@@ -153,12 +164,14 @@ TEST_F(RunnerTest, BadConfigsNameTheFileAndTheField) {
               HasSubstr("bad.json: controllers[0].initial_kpa: is above the regulator's 137 kPa"));
   EXPECT_THAT(error_of(tracking + steps + R"("pairs": ["fe", "pronation"], "controllers": [{"name": "paper"}]})"),
               HasSubstr("bad.json: pairs: \"pronation\" is not"));
-  EXPECT_THAT(error_of(tracking + steps + R"("controllers": []})"), HasSubstr("bad.json: controllers: must be a non-empty list"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": []})"),
+              HasSubstr("bad.json: controllers: must be a non-empty list"));
 }
 
 TEST(ParseShard, AcceptsKOfNOnly) {
   EXPECT_EQ(parse_shard("2/5"), std::make_pair(2, 5));
-  for (const char* bad : {"0/3", "4/3", "1/0", "a/b", "1/2x", "1"}) EXPECT_THROW(parse_shard(bad), std::invalid_argument) << bad;
+  for (const char* bad : {"0/3", "4/3", "1/0", "a/b", "1/2x", "1"})
+    EXPECT_THROW(parse_shard(bad), std::invalid_argument) << bad;
 }
 
 }  // namespace

@@ -52,7 +52,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const std::int64_t rise = static_cast<std::int64_t>(limits.rate_dkpa_s) * (now_ms - previous_ms) / 1000;
       FUZZ_CHECK(output[m] - previous[m] <= rise, "muscle %d rose %d dkPa in %u ms", m, output[m] - previous[m],
                  now_ms - previous_ms);
-      if (commanded && now_ms - last_command_ms > limits.timeout_ms) FUZZ_CHECK(output[m] == 0, "not vented on timeout");
+      if (commanded && now_ms - last_command_ms > limits.timeout_ms)
+        FUZZ_CHECK(output[m] == 0, "not vented on timeout");
       previous[m] = output[m];
     }
     previous_ms = now_ms;

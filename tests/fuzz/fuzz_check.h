@@ -7,14 +7,14 @@
 #include <string>
 #include <string_view>
 
-#define FUZZ_CHECK(condition, ...)                                                    \
-  do {                                                                                \
-    if (!(condition)) {                                                               \
+#define FUZZ_CHECK(condition, ...)                                                           \
+  do {                                                                                       \
+    if (!(condition)) {                                                                      \
       std::fprintf(stderr, "%s:%d: invariant broken: %s\n", __FILE__, __LINE__, #condition); \
-      __VA_OPT__(std::fprintf(stderr, __VA_ARGS__);)                                  \
-      std::fprintf(stderr, "\n");                                                     \
-      std::abort();                                                                   \
-    }                                                                                 \
+      __VA_OPT__(std::fprintf(stderr, __VA_ARGS__);)                                         \
+      std::fprintf(stderr, "\n");                                                            \
+      std::abort();                                                                          \
+    }                                                                                        \
   } while (false)
 
 namespace softwrist::fuzz {

@@ -31,7 +31,8 @@ constexpr std::size_t kMaxConfig = 4096;
 std::string one_muscle_model(const std::string& config) {
   return R"(<mujoco model="fuzz">
   <option timestep="0.001"/>
-  <custom><text name="plugin:fpam" data=")" + config + R"("/></custom>
+  <custom><text name="plugin:fpam" data=")" +
+         config + R"("/></custom>
   <worldbody>
     <site name="forearm_mount" pos="-0.2 0 0.02"/>
     <body name="hand">
@@ -105,8 +106,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // an error); never a NaN force passed on unnoticed.
     const bool unstable = d->warning[mjWARN_BADQACC].number > 0 || d->warning[mjWARN_BADQVEL].number > 0 ||
                           d->warning[mjWARN_BADQPOS].number > 0;
-    FUZZ_CHECK(unstable || (std::isfinite(d->actuator_force[0]) && std::isfinite(d->qpos[0]) && std::isfinite(d->act[0])),
-               "force %g, angle %g, pressure %g", d->actuator_force[0], d->qpos[0], d->act[0]);
+    FUZZ_CHECK(
+        unstable || (std::isfinite(d->actuator_force[0]) && std::isfinite(d->qpos[0]) && std::isfinite(d->act[0])),
+        "force %g, angle %g, pressure %g", d->actuator_force[0], d->qpos[0], d->act[0]);
     mj_deleteData(d);
   }
   softwrist_plugin_detach(m);

@@ -136,8 +136,8 @@ TEST(IndependentDataset, ManifestIsTrueToTheFiles) {
       {"rom", {"muscle", "pressure_kpa", "limit_deg", "repetition"}},
       {"tensile", {"pressure_kpa", "contraction", "force_n", "direction", "cycle"}},
       {"trajectory",
-       {"t_s", "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa", "angle_fe_deg",
-        "angle_ur_deg", "case", "p_flexor_kpa", "p_extensor_kpa", "p_ulnar_kpa", "p_radial_kpa"}}};
+       {"t_s", "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa", "angle_fe_deg", "angle_ur_deg",
+        "case", "p_flexor_kpa", "p_extensor_kpa", "p_ulnar_kpa", "p_radial_kpa"}}};
   std::set<std::string> kinds;
   ASSERT_EQ(manifest.at("files").size(), kFiles.size());
   for (const auto& entry : manifest.at("files")) {
@@ -279,9 +279,8 @@ TEST(IndependentTorqueRig, TorqueVanishesAtThePressureDependentMaximumContractio
 
 TEST(IndependentGeometry, MomentArmIsMinusTheLengthDerivative) {
   const Placement rig{0.1947, 0.0493, 0.0830, 0.0338};
-  const std::vector<WrapSurface> surfaces{{0.0399, 0.0399, 0.0, 0.0},
-                                          {0.0399 * 1.3, 0.0399 * 0.75, 0.0, 0.0},
-                                          {0.0399, 0.0399, -0.008, 0.008}};
+  const std::vector<WrapSurface> surfaces{
+      {0.0399, 0.0399, 0.0, 0.0}, {0.0399 * 1.3, 0.0399 * 0.75, 0.0, 0.0}, {0.0399, 0.0399, -0.008, 0.008}};
   for (const auto& wrap : surfaces) {
     bool saw_wrap = false, saw_straight = false;
     for (double deg = -80.0; deg <= 80.0; deg += 2.5) {
@@ -318,8 +317,8 @@ TEST(IndependentEffects, CatalogueHasTwoFormsPerLabelAndThreeOutside) {
       EXPECT_NE(f.value_at_level_1, 0.0);
     }
   }
-  for (const auto* label : {"mount_stretch", "fpam_params", "regulator_lag", "hysteresis", "wrap_geometry",
-                            "passive_wrist", "imu_bias"})
+  for (const auto* label :
+       {"mount_stretch", "fpam_params", "regulator_lag", "hysteresis", "wrap_geometry", "passive_wrist", "imu_bias"})
     EXPECT_GE(per_label[label], 2) << label;
   int outside = 0;
   for (const auto& [label, n] : per_label) outside += label.rfind("outside:", 0) == 0 ? 1 : 0;
@@ -493,7 +492,8 @@ TEST(IndependentEffects, NoneCarriesVariationButNoGapAndTwoEffectsBothAct) {
   EXPECT_TRUE(slurp(both.dir / "rom.csv") != slurp(leak.dir / "rom.csv"));
   EXPECT_TRUE(slurp(both.dir / "rom.csv") != slurp(limits.dir / "rom.csv"));
   double max_file = 0.0;
-  for (const auto& f : both.truth.files) max_file = std::max(max_file, f.noise_sd > 0 ? f.effect_rms / f.noise_sd : 0.0);
+  for (const auto& f : both.truth.files)
+    max_file = std::max(max_file, f.noise_sd > 0 ? f.effect_rms / f.noise_sd : 0.0);
   EXPECT_DOUBLE_EQ(both.truth.magnitude_noise_units, max_file);
 }
 

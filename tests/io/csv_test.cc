@@ -2,6 +2,7 @@
 
 #include "io/csv.h"
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 
@@ -40,7 +41,8 @@ TEST(CsvTable, BadInputIsNamedByFileLineAndColumn) {
   EXPECT_THAT(error_of("angle_deg,torque_nm\n1,inf\n"), HasSubstr("ref.csv:2: torque_nm: not a finite number"));
   EXPECT_THAT(error_of("angle_deg,torque_nm\n1,\n"), HasSubstr("ref.csv:2: torque_nm: empty cell"));
   EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2,3\n"), HasSubstr("ref.csv:2: expected 2 cells, found 3"));
-  EXPECT_THAT(error_of("angle_deg,torque\n1,2\n"), HasSubstr("ref.csv: missing column 'torque_nm' (columns: angle_deg, torque)"));
+  EXPECT_THAT(error_of("angle_deg,torque\n1,2\n"),
+              HasSubstr("ref.csv: missing column 'torque_nm' (columns: angle_deg, torque)"));
   EXPECT_THAT(error_of("angle_deg,angle_deg\n"), HasSubstr("appears twice"));
   EXPECT_THAT(error_of("angle_deg,\"torque_nm\"\n"), HasSubstr("ref.csv:1: quoted cells"));
   EXPECT_THAT(error_of(""), HasSubstr("ref.csv: empty file"));
@@ -56,13 +58,14 @@ TEST(CsvTable, IntegerCellsAreWholeAndWithinIntsRange) {
   EXPECT_EQ(table.integer(2, 0), 2147483647);
   for (std::size_t row : {3u, 4u, 5u}) {
     EXPECT_THAT([&] { (void)table.integer(row, 0); },
-                ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("counts.csv:" + std::to_string(row + 2) +
-                                                                       ": n: not a whole number in int's range")));
+                ::testing::ThrowsMessage<std::runtime_error>(
+                    HasSubstr("counts.csv:" + std::to_string(row + 2) + ": n: not a whole number in int's range")));
   }
 }
 
 TEST(CsvWriter, RoundTripsNumbersExactly) {
-  const auto path = std::filesystem::temp_directory_path() / "softwrist_csv_test.csv";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("softwrist_csv_test_" + std::to_string(::getpid()) + ".csv");
   {
     CsvWriter writer(path, {"a", "b"});
     writer.write_row({format_number(0.1), format_number(-1.0 / 3.0)});

@@ -16,7 +16,8 @@ using ::testing::HasSubstr;
 double bowl(std::span<const double> x) { return std::pow(x[0] - 0.3, 2) + 2.0 * std::pow(x[1] + 0.2, 2); }
 
 TEST(BoundedSearch, EveryAlgorithmFindsTheMinimumInsideTheBounds) {
-  for (const LocalAlgorithm algorithm : {LocalAlgorithm::kNelderMead, LocalAlgorithm::kSubplex, LocalAlgorithm::kBobyqa}) {
+  for (const LocalAlgorithm algorithm :
+       {LocalAlgorithm::kNelderMead, LocalAlgorithm::kSubplex, LocalAlgorithm::kBobyqa}) {
     const BoundedSearchResult r = minimize_bounded(bowl, {0.9, 0.9},
                                                    {.algorithm = algorithm,
                                                     .lower = {-1.0, -1.0},
@@ -37,8 +38,8 @@ TEST(BoundedSearch, AMinimumOutsideTheBoundsEndsOnTheBoundAndTheStartIsClamped) 
     outside += (x[0] < 0.5 || x[0] > 2.0) ? 1 : 0;
     return std::pow(x[0] - 3.0, 2);
   };
-  const BoundedSearchResult r =
-      minimize_bounded(objective, {-5.0}, {.lower = {0.5}, .upper = {2.0}, .x_tolerance_abs = 1e-9, .max_evaluations = 500});
+  const BoundedSearchResult r = minimize_bounded(
+      objective, {-5.0}, {.lower = {0.5}, .upper = {2.0}, .x_tolerance_abs = 1e-9, .max_evaluations = 500});
   EXPECT_NEAR(r.x[0], 2.0, 1e-6);
   EXPECT_EQ(outside, 0) << "never evaluated outside the bounds, the start included";
 }
@@ -56,8 +57,11 @@ TEST(BoundedSearch, AnObjectivesExceptionReachesTheCallerUnchanged) {
     if (++calls == 5) throw std::domain_error("replay diverged");
     return bowl(x);
   };
-  EXPECT_THAT([&] { minimize_bounded(objective, {0.9, 0.9}, {.lower = {-1.0, -1.0}, .upper = {1.0, 1.0}}); },
-              ::testing::ThrowsMessage<std::domain_error>(HasSubstr("replay diverged")));
+  EXPECT_THAT(
+      [&] {
+        minimize_bounded(objective, {0.9, 0.9}, {.lower = {-1.0, -1.0}, .upper = {1.0, 1.0}});
+      },
+      ::testing::ThrowsMessage<std::domain_error>(HasSubstr("replay diverged")));
   EXPECT_EQ(calls, 5) << "the search stopped at the exception";
 }
 

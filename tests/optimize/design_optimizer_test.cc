@@ -3,6 +3,7 @@
 
 #include "optimize/design_optimizer.h"
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 
@@ -66,8 +67,8 @@ TEST(DesignOptimizer, StartGridIsThePapersAndSearchesRespectTheBounds) {
     const auto& p = s.placement;
     const auto& lo = problem.bounds.lower;
     const auto& hi = problem.bounds.upper;
-    EXPECT_TRUE(p.d1 >= lo.d1 && p.d1 <= hi.d1 && p.w1 >= lo.w1 && p.w1 <= hi.w1 && p.d2 >= lo.d2 &&
-                p.d2 <= hi.d2 && p.w2 >= lo.w2 && p.w2 <= hi.w2);
+    EXPECT_TRUE(p.d1 >= lo.d1 && p.d1 <= hi.d1 && p.w1 >= lo.w1 && p.w1 <= hi.w1 && p.d2 >= lo.d2 && p.d2 <= hi.d2 &&
+                p.w2 >= lo.w2 && p.w2 <= hi.w2);
     EXPECT_GT(s.evaluations, 0);
   }
 }
@@ -130,7 +131,8 @@ TEST(DesignOptimizer, InvalidProblemsAndOptionsAreRejected) {
 }
 
 TEST(ReferenceTorque, BadRowsAreNamedByFileLineAndColumn) {
-  const auto path = std::filesystem::temp_directory_path() / "softwrist_reference_test.csv";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("softwrist_reference_test_" + std::to_string(::getpid()) + ".csv");
   const auto error_for = [&](const std::string& text) {
     std::ofstream(path) << text;
     try {

@@ -10,9 +10,7 @@ namespace {
 
 using units::deg_to_rad;
 
-AntagonisticPair symmetric_pair() {
-  return {paper::design_optimum_flexor(), paper::design_optimum_flexor()};
-}
+AntagonisticPair symmetric_pair() { return {paper::design_optimum_flexor(), paper::design_optimum_flexor()}; }
 
 // Section Torque applied by the exosuit: the net torque is the sum of the antagonists' torques, each muscle seeing
 // the joint angle in its own direction.
@@ -39,8 +37,8 @@ TEST(AntagonisticPair, SymmetricPairIsOddInAngleAndBalancedAtNeutral) {
 }
 
 TEST(WristMuscles, SelectsThePairOfEachAxis) {
-  const WristMuscles muscles{symmetric_pair(), {paper::rom_muscle(paper::rom_table()[2]),
-                                                paper::rom_muscle(paper::rom_table()[3])}};
+  const WristMuscles muscles{symmetric_pair(),
+                             {paper::rom_muscle(paper::rom_table()[2]), paper::rom_muscle(paper::rom_table()[3])}};
   EXPECT_EQ(&muscles.pair(WristAxis::kFlexionExtension), &muscles.flexion_extension);
   EXPECT_EQ(&muscles.pair(WristAxis::kUlnarRadial), &muscles.ulnar_radial);
 }

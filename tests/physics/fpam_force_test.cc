@@ -47,8 +47,7 @@ TEST(FpamForce, EqnForceMatchesClosedFormAtDesignValues) {
   for (double eps : {-0.05, 0.0, 0.1, 0.153, 0.2, 0.27}) {
     const double bracket = ((1.0 - eps) * (1.0 - eps) / (0.72 * 0.72) - 1.0) / sin2;
     const double elastic = eps < 0.153 ? 2.0 * pi * 9.06e6 * 0.08e-3 * (0.153 - eps) * 0.0123 : 0.0;
-    EXPECT_NEAR(fpam_force(pressure, eps, c, fabric), pi * pressure * 0.0123 * 0.0123 * bracket + elastic, 1e-9)
-        << eps;
+    EXPECT_NEAR(fpam_force(pressure, eps, c, fabric), pi * pressure * 0.0123 * 0.0123 * bracket + elastic, 1e-9) << eps;
   }
   // Magnitude check by hand: at eps = 0 the McKibben term is pi r0^2 P * 2.601 = 169.4 N, the fabric adds
   // 2 pi E t epsilon_0 r0 = 8.57 N.
@@ -65,8 +64,9 @@ TEST(FpamForceLaw, EqualsTheLawWrittenWithTheFiberAngle) {
     const double a0 = fiber_angle(eps_max);
     const FpamForceLaw law(103e3, c, fabric);
     for (double eps = -0.1; eps < 0.45; eps += 0.05) {
-      const double with_angle = pi * 103e3 * c.radius * c.radius *
-                                (3.0 * (1.0 - eps) * (1.0 - eps) / std::pow(std::tan(a0), 2) - 1.0 / std::pow(std::sin(a0), 2));
+      const double with_angle =
+          pi * 103e3 * c.radius * c.radius *
+          (3.0 * (1.0 - eps) * (1.0 - eps) / std::pow(std::tan(a0), 2) - 1.0 / std::pow(std::sin(a0), 2));
       EXPECT_NEAR(law.pressure_term(eps), with_angle, 1e-9 * (1.0 + std::abs(with_angle))) << eps_max << " " << eps;
     }
   }

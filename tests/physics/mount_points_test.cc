@@ -37,7 +37,8 @@ TEST(MountPoints, StretchedPositionsGiveTheStretchedModelsTorque) {
     const MuscleState truth = muscle_state(stretched, angle, 137e3);
     const MountPoints points = stretched_mount_points(stretched.placement, stretched.wrist_radius, angle, truth.force,
                                                       stretched.mount_stiffness);
-    const double moved = std::hypot(points.forearm.x + stretched.placement.d1, points.forearm.y - stretched.placement.w1);
+    const double moved =
+        std::hypot(points.forearm.x + stretched.placement.d1, points.forearm.y - stretched.placement.w1);
     EXPECT_NEAR(moved, mount_stretch(truth.force, stretched.mount_stiffness.forearm), 1e-12);
     fixed.placement = placement_from_mount_points(points, angle);
     const MuscleState measured = muscle_state(fixed, angle, 137e3);

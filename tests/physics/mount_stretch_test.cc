@@ -51,10 +51,13 @@ TEST(SolveMountStretch, OneShotUsesTheForceAtTheInitialPlacement) {
 // One-shot stretches by the largest force, so it undershoots the fixed point, which itself lies below the
 // unstretched force.
 TEST(SolveMountStretch, OneShotLeqSelfConsistentLeqUnstretched) {
-  const auto force_at_length = [](double l) { return std::max(0.0, 3000.0 * (l - 0.2) - 40.0 * (l - 0.2) * (l - 0.2)); };
+  const auto force_at_length = [](double l) {
+    return std::max(0.0, 3000.0 * (l - 0.2) - 40.0 * (l - 0.2) * (l - 0.2));
+  };
   for (double length = 0.2; length < 0.4; length += 0.01) {
     const double none = solve_mount_stretch(force_at_length, length, kPaperStiffness, StretchMode::kNone).force;
-    const double self = solve_mount_stretch(force_at_length, length, kPaperStiffness, StretchMode::kSelfConsistent).force;
+    const double self =
+        solve_mount_stretch(force_at_length, length, kPaperStiffness, StretchMode::kSelfConsistent).force;
     const double once = solve_mount_stretch(force_at_length, length, kPaperStiffness, StretchMode::kOneShot).force;
     EXPECT_LE(once, self + 1e-9) << length;
     EXPECT_LE(self, none + 1e-9) << length;

@@ -87,8 +87,8 @@ TEST(MuscleTorque, SelfConsistentStateSatisfiesBothLaws) {
   const auto state = muscle_state(flexor, deg_to_rad(22.5), 137e3);
   ASSERT_GT(state.force, 0.0);
   EXPECT_NEAR(state.mount_stretch, total_mount_stretch(state.force, flexor.mount_stiffness), 1e-10);
-  EXPECT_NEAR(state.force, fpam_force(flexor.fpam, 137e3, contraction_ratio(state.effective_length, flexor.rest_length)),
-              1e-6);
+  EXPECT_NEAR(state.force,
+              fpam_force(flexor.fpam, 137e3, contraction_ratio(state.effective_length, flexor.rest_length)), 1e-6);
 }
 
 TEST(MuscleTorque, RejectsInvalidMuscles) {

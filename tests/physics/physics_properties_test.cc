@@ -23,8 +23,8 @@ struct RandomMuscles {
   // Placements within the bounds of Table optimized_parameters, wrist radii 1-3 cm (below both mounts), fPAMs
   // with eps_max up to the Eqn. fiber_orientation bound, L0 from Eqn. length at a random extension.
   Muscle next(StretchMode mode) {
-    const Placement placement{.d1 = uniform(0.02, 0.22), .w1 = uniform(0.035, 0.05),
-                              .d2 = uniform(0.015, 0.09), .w2 = uniform(0.015, 0.035)};
+    const Placement placement{
+        .d1 = uniform(0.02, 0.22), .w1 = uniform(0.035, 0.05), .d2 = uniform(0.015, 0.09), .w2 = uniform(0.015, 0.035)};
     const double r_w = uniform(0.01, std::min(0.03, 0.99 * std::hypot(placement.d2, placement.w2)));
     const double rest = rest_length_for_range(placement, r_w, deg_to_rad(uniform(-90.0, -30.0)));
     // Drawn in this order (the properties' random devices stay the same).

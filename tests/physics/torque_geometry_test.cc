@@ -1,7 +1,7 @@
 #include "physics/torque_geometry.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <utility>
 

@@ -53,7 +53,7 @@ TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
   }
   // The renders: each muscle settled (first repetition), an <img> each.
   EXPECT_EQ(result.renders, (std::vector<std::string>{"render_rom_flexor.png", "render_rom_extensor.png",
-                                                       "render_rom_ulnar.png", "render_rom_radial.png"}));
+                                                      "render_rom_ulnar.png", "render_rom_radial.png"}));
   for (const std::string& render : result.renders) EXPECT_THAT(html, HasSubstr("<img src=\"" + render + "\""));
   EXPECT_THAT(html, HasSubstr("The flexor alone at 137 kPa, settled"));
   const ReportResult bare = write_report(run, {.out = dir_ / "bare", .plots = false, .renders = false});
@@ -66,7 +66,8 @@ TEST_F(HtmlReportTest, RangeOfMotionPageHasMetricsPlotsAndProvenance) {
 // counts the images that loaded into <body data-images>, and a missing PNG is named on the page. A screenshot is
 // taken as well (the page renders at all).
 TEST_F(HtmlReportTest, OpensInHeadlessChromiumWithEveryImageLoaded) {
-  if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "Debian's chromium is not installed (scripts/test.sh installs it)";
+  if (!fs::exists("/usr/bin/chromium"))
+    GTEST_SKIP() << "Debian's chromium is not installed (scripts/test.sh installs it)";
   const fs::path run = rom_run();
   const ReportResult report = write_report(run);
   const auto chromium = [&](const std::vector<std::string>& args, const fs::path& output) {
@@ -92,13 +93,15 @@ TEST_F(HtmlReportTest, OpensInHeadlessChromiumWithEveryImageLoaded) {
 }
 
 TEST_F(HtmlReportTest, NotARunDirectoryIsAClearError) {
-  EXPECT_THAT([&] { write_report(dir_ / "nope"); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not a directory")));
+  EXPECT_THAT([&] { write_report(dir_ / "nope"); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not a directory")));
   const fs::path run = rom_run();
   fs::remove(run / "summary.json");
-  EXPECT_THAT([&] { write_report(run); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("summary.json: missing (is this a run directory?)")));
+  EXPECT_THAT([&] { write_report(run); }, ::testing::ThrowsMessage<std::runtime_error>(
+                                              HasSubstr("summary.json: missing (is this a run directory?)")));
   std::ofstream(run / "summary.json") << "{ not json";
-  EXPECT_THAT([&] { write_report(run); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("summary.json: invalid JSON")));
+  EXPECT_THAT([&] { write_report(run); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("summary.json: invalid JSON")));
 }
 
 // Tracking metrics: each controller's RMSE beside the paper's 5.18 / 7.12 deg.

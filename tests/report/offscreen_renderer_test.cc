@@ -1,5 +1,6 @@
 #include "report/offscreen_renderer.h"
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 
@@ -51,7 +52,8 @@ TEST(OffscreenRenderer, MusclesAreColouredByPressure) {
 }
 
 TEST(OffscreenRenderer, WritesAPng) {
-  const auto path = std::filesystem::temp_directory_path() / "softwrist_render_test.png";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("softwrist_render_test_" + std::to_string(::getpid()) + ".png");
   write_png(render(100.0, 20.0, View::kRadial), path);
   std::ifstream file(path, std::ios::binary);
   char magic[8] = {};

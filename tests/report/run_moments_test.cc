@@ -41,8 +41,9 @@ class RunMomentsTest : public testing::ScratchDirTest {
   // A tracking log: case 0 (paper, fe only) flexes to 20 deg at t = 0.02 and extends to -15 deg at t = 0.03;
   // case 1 (model_based) also moves ulnar/radial.
   fs::path tracking_run() {
-    const std::vector<std::string> columns = {"case", "repetition", "controller", "t_s", "true_fe_deg", "true_ur_deg",
-                                              "cmd_flexor_kpa", "cmd_extensor_kpa", "cmd_ulnar_kpa", "cmd_radial_kpa"};
+    const std::vector<std::string> columns = {"case",          "repetition",    "controller",     "t_s",
+                                              "true_fe_deg",   "true_ur_deg",   "cmd_flexor_kpa", "cmd_extensor_kpa",
+                                              "cmd_ulnar_kpa", "cmd_radial_kpa"};
     return write_run("tracking", "tracking", columns,
                      {{"0", "0", "paper", "0", "0", "0", "13.8", "13.8", "0", "0"},
                       {"0", "0", "paper", "0.01", "5", "0.5", "40", "0", "0", "0"},
@@ -57,7 +58,8 @@ class RunMomentsTest : public testing::ScratchDirTest {
 // Range of motion: each muscle's first repetition, the settled angle signed by the muscle's direction (the log
 // holds it in the muscle's own direction), on the camera of its axis.
 TEST_F(RunMomentsTest, RangeOfMotionDrawsEachMuscleSettledAtItsPressure) {
-  const fs::path run = write_run("rom", "range_of_motion", {"case", "repetition", "muscle", "pressure_kpa", "limit_deg", "other_angle_deg"},
+  const fs::path run = write_run("rom", "range_of_motion",
+                                 {"case", "repetition", "muscle", "pressure_kpa", "limit_deg", "other_angle_deg"},
                                  {{"0", "0", "flexor", "137", "27.5", "15"},
                                   {"1", "1", "flexor", "137", "28", "14"},
                                   {"2", "0", "radial", "100", "23", "-6"}});
@@ -109,14 +111,19 @@ TEST_F(RunMomentsTest, TrackingDrawsTheExtremesOrTheNearestInstant) {
 
 TEST_F(RunMomentsTest, BadQueriesAndLogsNameTheProblem) {
   const fs::path run = tracking_run();
-  EXPECT_THAT([&] { run_moments(run, {.case_index = 5}); }, ThrowsMessage<std::runtime_error>(HasSubstr("no rows of case 5")));
+  EXPECT_THAT([&] { run_moments(run, {.case_index = 5}); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("no rows of case 5")));
   EXPECT_THAT([&] { run_moments(run, {.at_s = 2.0}); },
               ThrowsMessage<std::runtime_error>(HasSubstr("--at 2 s is outside case 0 (0.00 to 0.03 s)")));
-  EXPECT_THAT([&] { run_moments(run, {.at_s = std::nan("")}); }, ThrowsMessage<std::runtime_error>(HasSubstr("outside")));
-  const fs::path rom = write_run("rom", "range_of_motion", {"case", "repetition", "muscle", "pressure_kpa", "limit_deg"},
-                                 {{"0", "0", "thumb", "137", "27.5"}});
-  EXPECT_THAT([&] { run_moments(rom, {.at_s = 1.0}); }, ThrowsMessage<std::runtime_error>(HasSubstr("--at needs a tracking run")));
-  EXPECT_THAT([&] { run_moments(rom); }, ThrowsMessage<std::runtime_error>(HasSubstr("missing column 'other_angle_deg'")));
+  EXPECT_THAT([&] { run_moments(run, {.at_s = std::nan("")}); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("outside")));
+  const fs::path rom =
+      write_run("rom", "range_of_motion", {"case", "repetition", "muscle", "pressure_kpa", "limit_deg"},
+                {{"0", "0", "thumb", "137", "27.5"}});
+  EXPECT_THAT([&] { run_moments(rom, {.at_s = 1.0}); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("--at needs a tracking run")));
+  EXPECT_THAT([&] { run_moments(rom); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("missing column 'other_angle_deg'")));
   EXPECT_THAT([&] { tracking_timeline(rom, 0); },
               ThrowsMessage<std::runtime_error>(HasSubstr("is a range_of_motion run; a video needs a tracking run")));
   const fs::path design = write_run("design", "design_optimization", {"case"}, {{"0"}});
@@ -127,10 +134,16 @@ TEST_F(RunMomentsTest, BadQueriesAndLogsNameTheProblem) {
 // The pose renderer refuses what the regulator cannot do, and a flexed pose differs from the neutral one.
 TEST_F(RunMomentsTest, PoseRendererChecksPressuresAndDrawsThePose) {
   PoseRenderer renderer(sim::paper_device(), 64, 48);
-  EXPECT_THAT([&] { renderer.Render({0.0, 0.0, {0, 0, 200, 0}}, View::kRadial); },
-              ThrowsMessage<std::runtime_error>(HasSubstr("ulnar pressure 200 kPa is outside the regulator's [0, 137] kPa")));
-  EXPECT_THAT([&] { renderer.Render({std::nan(""), 0.0, {}}, View::kRadial); },
-              ThrowsMessage<std::runtime_error>(HasSubstr("not finite")));
+  EXPECT_THAT(
+      [&] {
+        renderer.Render({0.0, 0.0, {0, 0, 200, 0}}, View::kRadial);
+      },
+      ThrowsMessage<std::runtime_error>(HasSubstr("ulnar pressure 200 kPa is outside the regulator's [0, 137] kPa")));
+  EXPECT_THAT(
+      [&] {
+        renderer.Render({std::nan(""), 0.0, {}}, View::kRadial);
+      },
+      ThrowsMessage<std::runtime_error>(HasSubstr("not finite")));
   const Image neutral = renderer.Render({}, View::kRadial);
   const Image flexed = renderer.Render({deg_to_rad(40), 0.0, {137, 0, 0, 0}}, View::kRadial);
   EXPECT_NE(neutral.rgb, flexed.rgb);
@@ -145,13 +158,16 @@ TEST_F(RunMomentsTest, VideoHasEveryFrame) {
   for (const TimedPose& p : timeline) video.add_frame(renderer.Render(p.pose, View::kRadial));
   EXPECT_THROW(video.add_frame(Image{32, 32, std::vector<unsigned char>(32 * 32 * 3)}), std::runtime_error);
   EXPECT_EQ(video.finish(), 4);
-  const int code = io::run_process({"ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
-                                    "stream=nb_read_frames,width,height", "-of", "csv=p=0", (dir_ / "case0.mp4").string()},
-                                   {.stdout_file = dir_ / "probe.txt"});
+  const int code =
+      io::run_process({"ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                       "stream=nb_read_frames,width,height", "-of", "csv=p=0", (dir_ / "case0.mp4").string()},
+                      {.stdout_file = dir_ / "probe.txt"});
   ASSERT_EQ(code, 0);
   EXPECT_EQ(io::read_text_file(dir_ / "probe.txt"), "64,48,4\n");
-  EXPECT_THAT([&] { VideoWriter(dir_ / "odd.mp4", 63, 48, 10); }, ThrowsMessage<std::runtime_error>(HasSubstr("must be even")));
-  EXPECT_THAT([&] { VideoWriter(dir_ / "fast.mp4", 64, 48, 1000); }, ThrowsMessage<std::runtime_error>(HasSubstr("1..120")));
+  EXPECT_THAT([&] { VideoWriter(dir_ / "odd.mp4", 63, 48, 10); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("must be even")));
+  EXPECT_THAT([&] { VideoWriter(dir_ / "fast.mp4", 64, 48, 1000); },
+              ThrowsMessage<std::runtime_error>(HasSubstr("1..120")));
 }
 
 }  // namespace

@@ -17,7 +17,8 @@ const std::filesystem::path kModels = std::filesystem::path(SOFTWRIST_SOURCE_DIR
 // The shipped default device is exactly what the code generates, so neither can rot.
 TEST(PaperDevice, ShippedPlacementFileAndModelMatchTheGenerator) {
   EXPECT_EQ(io::read_text_file(kModels / "paper_device.json"), device_to_json(paper_device()));
-  EXPECT_EQ(io::read_text_file(kModels / "paper_device.xml"), build_model_xml(load_device(kModels / "paper_device.json")));
+  EXPECT_EQ(io::read_text_file(kModels / "paper_device.xml"),
+            build_model_xml(load_device(kModels / "paper_device.json")));
   EXPECT_EQ(io::read_text_file(kModels / "rom_device.json"), device_to_json(rom_device()));
 }
 

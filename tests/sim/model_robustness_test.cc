@@ -138,7 +138,7 @@ TEST(ModelRobustness, InvalidDeviceIsRefusedNamingTheField) {
   struct Case {
     std::string pointer;  // JSON pointer of the field
     nlohmann::json value;
-    std::string named;    // what the message must name
+    std::string named;  // what the message must name
   };
   const std::vector<Case> cases = {
       {"/muscles/flexor/d1_cm", -3.0, "muscles.flexor"},

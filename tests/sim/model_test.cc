@@ -23,7 +23,8 @@ const PluginSet& plugins() {
 }
 
 struct Sim {
-  explicit Sim(const DeviceDescription& device) : model(Model::FromXml(build_model_xml(device), plugins())), data(make_data(model)) {
+  explicit Sim(const DeviceDescription& device)
+      : model(Model::FromXml(build_model_xml(device), plugins())), data(make_data(model)) {
     fe = model->jnt_dofadr[model.id(mjOBJ_JOINT, "wrist_fe")];
     ur = model->jnt_dofadr[model.id(mjOBJ_JOINT, "wrist_ur")];
   }
@@ -125,7 +126,8 @@ TEST(ModelRegulator, StepReaches63PercentAtTheTimeConstantAndStaysInRange) {
 // Free motion: each muscle alone at 137 kPa moves the relaxed wrist in its own direction and it settles there.
 TEST(ModelFreeMotion, EachMuscleAloneSettlesInItsOwnDirection) {
   Sim sim(paper_device());
-  const std::array<std::pair<int, double>, 4> expected_sign = {{{kFlexor, 1.0}, {kExtensor, -1.0}, {kUlnar, 1.0}, {kRadial, -1.0}}};
+  const std::array<std::pair<int, double>, 4> expected_sign = {
+      {{kFlexor, 1.0}, {kExtensor, -1.0}, {kUlnar, 1.0}, {kRadial, -1.0}}};
   for (const auto& [muscle, sign] : expected_sign) {
     mj_resetData(sim.model.get(), sim.data.get());
     sim.data->ctrl[muscle] = 137.0;
@@ -197,8 +199,10 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
     return text.replace(at, from.size(), to);
   };
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam "), "actuator 'flexor': attribute 'rest_length': missing"},
-      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam rest_length=-1 "), "actuator 'flexor': attribute 'rest_length'"},
+      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam "),
+       "actuator 'flexor': attribute 'rest_length': missing"},
+      {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam rest_length=-1 "),
+       "actuator 'flexor': attribute 'rest_length'"},
       {replaced("table_eps_max=0.153", "table_eps_max=1.5"), "actuator 'flexor'"},
       {replaced("data=\"softwrist.fpam rest_length=0.32", "data=\"acme.muscle rest_length=0.32"),
        "actuator 'flexor': unknown plugin 'acme.muscle'"},

@@ -66,8 +66,9 @@ TEST(SimulatedPlant, ACommandOutsideTheRangeVentsAndThrowsNamingTheMuscle) {
   plant.wait_until(1.5);
   EXPECT_NEAR(plant.wrist().regulated_pressure_kpa(kFlexor), 137.0, 0.1);
   EXPECT_NEAR(plant.wrist().regulated_pressure_kpa(kRadial), 50.0, 0.1);
-  for (const control::Pressures& bad : {control::Pressures{500.0, 0.0, 0.0, 50.0}, control::Pressures{0.0, -20.0, 0.0, 0.0},
-                                        control::Pressures{0.0, 0.0, NAN, 0.0}}) {
+  for (const control::Pressures& bad :
+       {control::Pressures{500.0, 0.0, 0.0, 50.0}, control::Pressures{0.0, -20.0, 0.0, 0.0},
+        control::Pressures{0.0, 0.0, NAN, 0.0}}) {
     plant.command_pressures_kpa({137.0, 0.0, 0.0, 50.0});
     try {
       plant.command_pressures_kpa(bad);

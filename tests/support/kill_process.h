@@ -24,7 +24,8 @@ inline bool start_and_kill_when(const std::vector<std::string>& argv, const std:
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
-    if (std::freopen("/dev/null", "w", stdout) == nullptr || std::freopen("/dev/null", "w", stderr) == nullptr) _exit(126);
+    if (std::freopen("/dev/null", "w", stdout) == nullptr || std::freopen("/dev/null", "w", stderr) == nullptr)
+      _exit(126);
     execv(args[0], args.data());
     _exit(127);
   }
@@ -44,7 +45,8 @@ inline bool start_and_kill_when(const std::vector<std::string>& argv, const std:
 
 // Starts argv and kills it with SIGKILL after `delay`. Returns whether it was still running then.
 inline bool start_and_kill(const std::vector<std::string>& argv, std::chrono::milliseconds delay) {
-  return start_and_kill_when(argv, [] { return false; }, delay);
+  return start_and_kill_when(
+      argv, [] { return false; }, delay);
 }
 
 }  // namespace softwrist::testing

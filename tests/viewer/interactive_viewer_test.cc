@@ -37,10 +37,10 @@ TEST_F(ViewUnderXvfb, DrawsSimulatesAndSavesAScreenshot) {
   // are still checked; the viewer's state and overlay are leak-checked in-process (viewer_state_test).
   const char* asan = std::getenv("ASAN_OPTIONS");
   const std::string asan_options = "ASAN_OPTIONS=" + std::string(asan != nullptr ? asan : "") + ":detect_leaks=0";
-  const int code = io::run_process({"env", asan_options, "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", SOFTWRIST_BINARY, "view",
-                                    "--frames", "90", "--screenshot", shot.string(), "--pressures-kpa", "137,0,0,0",
-                                    "--width", "640", "--height", "480"},
-                                   {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
+  const int code = io::run_process(
+      {"env", asan_options, "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", SOFTWRIST_BINARY, "view", "--frames",
+       "90", "--screenshot", shot.string(), "--pressures-kpa", "137,0,0,0", "--width", "640", "--height", "480"},
+      {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
   ASSERT_EQ(code, 0) << io::read_text_file(dir_ / "err.txt");
   const std::string out = io::read_text_file(dir_ / "out.txt");
   EXPECT_THAT(out, HasSubstr("90 frames, 1.50 s simulated"));
@@ -56,8 +56,9 @@ TEST_F(ViewUnderXvfb, DrawsSimulatesAndSavesAScreenshot) {
 }
 
 TEST_F(ViewUnderXvfb, WithoutADisplayTheErrorSaysSo) {
-  const int code = io::run_process({"env", "-u", "DISPLAY", "-u", "WAYLAND_DISPLAY", SOFTWRIST_BINARY, "view", "--frames", "1"},
-                                   {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
+  const int code =
+      io::run_process({"env", "-u", "DISPLAY", "-u", "WAYLAND_DISPLAY", SOFTWRIST_BINARY, "view", "--frames", "1"},
+                      {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
   EXPECT_EQ(code, 1);
   EXPECT_THAT(io::read_text_file(dir_ / "err.txt"), HasSubstr("the viewer needs a display"));
 }
