@@ -131,8 +131,8 @@ int run_torque(const TorqueOptions& options, std::ostream& out) {
   // exception leaves the aggregate initialisation of a class with a base (here MuscleLaw).
   const physics::Placement placement = parse_placement_cm(options.placement, "--placement");
   physics::FpamParameters fpam = build_fpam(options.fpam, paper::tensile_fpam());
-  physics::Muscle muscle{{.fpam = std::move(fpam), .rest_length = cm_to_m(options.l0_cm)}, placement,
-                         cm_to_m(options.rw_cm)};
+  physics::Muscle muscle{
+      {.fpam = std::move(fpam), .rest_length = cm_to_m(options.l0_cm)}, placement, cm_to_m(options.rw_cm)};
   if (options.l0_angle->count() > 0) {
     muscle.rest_length =
         physics::rest_length_for_range(muscle.placement, muscle.wrist_radius, deg_to_rad(options.l0_angle_deg));
