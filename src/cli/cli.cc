@@ -8,6 +8,7 @@
 #include "cli/bench_commands.h"
 #include "cli/bridge_commands.h"
 #include "cli/diagnose_commands.h"
+#include "cli/generate_command.h"
 #include "cli/model_commands.h"
 #include "cli/personalize_command.h"
 #include "cli/render_command.h"
@@ -35,6 +36,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_view_command(app, out);
   add_bridge_commands(app, out, err);
   add_diagnose_commands(app, out, err);
+  add_generate_command(app, out);
 
   std::vector<const char*> argv = {"softwrist"};
   for (const auto& arg : args) argv.push_back(arg.c_str());

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -79,7 +81,8 @@ Csv read_csv(const fs::path& path) {
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("softwrist_independent_test_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("softwrist_independent_test_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(dir);
   return dir;
 }

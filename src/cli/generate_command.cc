@@ -1,0 +1,76 @@
+#include "cli/generate_command.h"
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli/arguments.h"
+#include "independent_device/dataset.h"
+
+namespace softwrist::cli {
+namespace {
+
+struct GenerateOptions {
+  std::string out;
+  std::uint64_t seed = 1;
+  std::vector<std::string> effects;  // FORM or FORM:LEVEL
+  double trajectory_s = 24.0;
+  bool list = false;
+};
+
+independent::EffectSpec parse_effect(const std::string& text) {
+  const auto colon = text.find(':');
+  independent::EffectSpec e{.form = text.substr(0, colon), .level = 1.0};
+  if (colon != std::string::npos) {
+    try {
+      std::size_t used = 0;
+      e.level = std::stod(text.substr(colon + 1), &used);
+      if (used != text.size() - colon - 1) throw std::invalid_argument("trailing characters");
+    } catch (const std::exception&) {
+      throw UsageError(fmt::format("--effect '{}': the level after ':' is not a number", text));
+    }
+  }
+  return e;
+}
+
+void run_generate(const GenerateOptions& o, std::ostream& out) {
+  if (o.list) {
+    for (const auto& f : independent::effect_forms()) {
+      out << fmt::format("{:<26} {:<14} {}\n", f.name, f.label, f.description);
+    }
+    return;
+  }
+  if (o.out.empty()) throw UsageError("--out is required (or --list-forms)");
+  independent::DatasetOptions options{.seed = o.seed, .effects = {}, .trajectory_s = o.trajectory_s};
+  for (const auto& text : o.effects) options.effects.push_back(parse_effect(text));
+  try {
+    const independent::DatasetTruth truth = independent::write_dataset(options, o.out);
+    std::string labels;
+    for (const auto& l : truth.labels) labels += (labels.empty() ? "" : ",") + l;
+    out << fmt::format("{}: {} files, manifest.json, truth.json (labels {}, largest effect {:.2f} noise units)\n",
+                       o.out, truth.files.size(), labels, truth.magnitude_noise_units);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+}  // namespace
+
+void add_generate_command(CLI::App& app, std::ostream& out) {
+  auto o = std::make_shared<GenerateOptions>();
+  auto* command = app.add_subcommand(
+      "generate",
+      "Data from the independent simulated exosuit (src/independent_device, written apart from softwrist's model): "
+      "CSVs as real rigs give them, manifest.json (the conventions to state at import) and truth.json");
+  command->add_option("--out", o->out, "Output directory");
+  command->add_option("--seed", o->seed, "Seed of the device's variation, the conventions and the noise (default 1)");
+  command->add_option("--effect", o->effects, "FORM or FORM:LEVEL (level in (0, 1], default 1); repeatable");
+  command->add_option("--trajectory-s", o->trajectory_s, "Length of each tracking trial (default 24 s)");
+  command->add_flag("--list-forms", o->list, "List the effect forms and the label a diagnosis should name");
+  command->callback([o, &out] { run_generate(*o, out); });
+}
+
+}  // namespace softwrist::cli
