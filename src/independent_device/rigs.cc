@@ -60,6 +60,17 @@ WristCondition draw_condition(Rng& rng, bool noisy) {
   return c;
 }
 
+// Runs the prototype `ms` milliseconds under `command` with the IMU pair observing every step and sampling every
+// kImuPeriodMs from `phase`; `n` counts the steps since the trial began.
+void run_sampled(PrototypeSim& sim, ImuPair& imu, const std::array<double, 4>& command, int phase, int& n, int ms) {
+  for (int k = 0; k < ms; ++k, ++n) {
+    sim.step(command);
+    const double time = n * kDynamicsDt;
+    imu.observe(time, sim.wrist.fe, sim.wrist.ur);
+    if ((n + phase) % kImuPeriodMs == 0) imu.sample(time);
+  }
+}
+
 }  // namespace
 
 Session::Session(const DeviceSpec& spec, std::uint64_t session_seed, bool with_noise)
@@ -190,14 +201,7 @@ Table run_rom(Session& s, Posture posture, int repetitions) {
         ImuPair imu(s.device.imu, s.seed, 1000 + trial++, s.noisy);
         std::array<double, 4> command{};
         int n = 0;
-        auto run = [&](int ms) {
-          for (int k = 0; k < ms; ++k, ++n) {
-            sim.step(command);
-            const double time = n * kDynamicsDt;
-            imu.observe(time, sim.wrist.fe, sim.wrist.ur);
-            if ((n + phase) % kImuPeriodMs == 0) imu.sample(time);
-          }
-        };
+        auto run = [&](int ms) { run_sampled(sim, imu, command, phase, n, ms); };
         run(2500);  // relaxing from the previous trial
         imu.zero();
         command[m] = kPaperPressuresKpa[p];
@@ -250,14 +254,7 @@ Table run_tracking(Session& s, TrackingTask task, Posture posture, int trials, d
     command = controller.command_kpa;
     ImuPair imu(s.device.imu, s.seed, (planar ? 5000u : 6000u) + static_cast<std::uint64_t>(trial), s.noisy);
     int n = 0;
-    auto run = [&](int ms) {
-      for (int k = 0; k < ms; ++k, ++n) {
-        sim.step(command);
-        const double time = n * kDynamicsDt;
-        imu.observe(time, sim.wrist.fe, sim.wrist.ur);
-        if ((n + phase) % kImuPeriodMs == 0) imu.sample(time);
-      }
-    };
+    auto run = [&](int ms) { run_sampled(sim, imu, command, phase, n, ms); };
     imu.observe(0.0, sim.wrist.fe, sim.wrist.ur);
     imu.sample(0.0);
     run(preroll_ms);
