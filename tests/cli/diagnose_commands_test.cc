@@ -72,6 +72,10 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
       {{"synthesize", "--model", model, "--out", empty, "--dead-time-s", "2"}, 2, "--dead-time-s must be within 0..1"},
       {{"synthesize", "--model", model, "--out", empty, "--imu-offset-deg", "1"}, 2, "--imu-offset-deg"},
       {{"synthesize", "--model", model, "--out", empty, "--eps-max-shift", "0.9"}, 2, "max_contraction eps_max"},
+      {{"generate", "--out", empty, "--effect", "nonsense"}, 2, "unknown effect form 'nonsense'"},
+      {{"generate", "--out", empty, "--effect", "slow_vent:2"}, 2, "level 2 is outside (0, 1]"},
+      {{"generate", "--out", empty, "--effect", "slow_vent:abc"}, 2, "the level after ':' is not a number"},
+      {{"generate"}, 2, "--out is required"},
   };
   std::ofstream(dir_ / "x.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\n";
   for (const Case& c : cases) {
@@ -83,6 +87,22 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
     }
     EXPECT_THAT(r.err, HasSubstr(c.says));
   }
+}
+
+// `softwrist generate`: the independent device's data set, with the manifest a user imports by and the truth.
+TEST_F(CliDiagnose, GenerateWritesTheIndependentDevicesDataSet) {
+  const auto r = run({"generate", "--out", (dir_ / "data").string(), "--seed", "2", "--effect", "slow_vent:0.5",
+                      "--trajectory-s", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("labels regulator_lag"));
+  const auto manifest = nlohmann::json::parse(std::ifstream(dir_ / "data/manifest.json"));
+  for (const auto& file : manifest.at("files"))
+    EXPECT_TRUE(fs::exists(dir_ / "data" / file.at("csv").get<std::string>()));
+  const auto truth = nlohmann::json::parse(std::ifstream(dir_ / "data/truth.json"));
+  EXPECT_EQ(truth.at("effects").at(0).at("form"), "slow_vent");
+  const auto forms = run({"generate", "--list-forms"});
+  ASSERT_EQ(forms.code, 0) << forms.err;
+  EXPECT_THAT(forms.out, HasSubstr("leaking_fitting"));
 }
 
 }  // namespace
