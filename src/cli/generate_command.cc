@@ -21,19 +21,12 @@ struct GenerateOptions {
   bool list = false;
 };
 
+// FORM or FORM:LEVEL.
 independent::EffectSpec parse_effect(const std::string& text) {
   const auto colon = text.find(':');
-  independent::EffectSpec e{.form = text.substr(0, colon), .level = 1.0};
-  if (colon != std::string::npos) {
-    try {
-      std::size_t used = 0;
-      e.level = std::stod(text.substr(colon + 1), &used);
-      if (used != text.size() - colon - 1) throw std::invalid_argument("trailing characters");
-    } catch (const std::exception&) {
-      throw UsageError(fmt::format("--effect '{}': the level after ':' is not a number", text));
-    }
-  }
-  return e;
+  if (colon == std::string::npos) return {.form = text, .level = 1.0};
+  return {.form = text.substr(0, colon),
+          .level = parse_number(std::string_view(text).substr(colon + 1), "--effect '" + text + "' level")};
 }
 
 void run_generate(const GenerateOptions& o, std::ostream& out) {

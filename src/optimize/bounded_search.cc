@@ -1,9 +1,7 @@
 #include "optimize/bounded_search.h"
 
 #include <algorithm>
-#include <cmath>
 #include <exception>
-#include <limits>
 #include <stdexcept>
 
 #include <nlopt.hpp>

@@ -74,7 +74,9 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
       {{"synthesize", "--model", model, "--out", empty, "--eps-max-shift", "0.9"}, 2, "max_contraction eps_max"},
       {{"generate", "--out", empty, "--effect", "nonsense"}, 2, "unknown effect form 'nonsense'"},
       {{"generate", "--out", empty, "--effect", "slow_vent:2"}, 2, "level 2 is outside (0, 1]"},
-      {{"generate", "--out", empty, "--effect", "slow_vent:abc"}, 2, "the level after ':' is not a number"},
+      {{"generate", "--out", empty, "--effect", "slow_vent:abc"},
+       2,
+       "--effect 'slow_vent:abc' level: 'abc' is not a finite number"},
       {{"generate"}, 2, "--out is required"},
   };
   std::ofstream(dir_ / "x.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\n";
