@@ -1,15 +1,15 @@
 #!/usr/bin/env python3
-"""Today's diagnosis on data it did not generate: data sets from the independent generator (softwrist generate),
-imported with what `softwrist import` can state (kind, hand supported, muscle) and diagnosed against one placement
-file, each verdict beside the truth. A baseline for the independent benchmark (issues 19 and 20), not the benchmark.
+"""The diagnosis on data it did not generate: data sets from the independent generator (softwrist generate), each
+file imported with what its manifest states (kind, muscle, posture, what the sweep's torque includes, angles zeroed at
+the start, the angle sensor's resolution, and the rig: the torque rig's placement or the prototype's), diagnosed in
+one run, each verdict beside the truth. A step towards the independent benchmark (issue 20), not the benchmark.
 
   python3 scripts/diagnose_independent.py --softwrist build/release/src/cli/softwrist --out /tmp/indep \
-      [--seeds 1,2] [--forms none,slow_vent,...] [--model models/paper_device.json] [--trajectory-s 24]
+      [--seeds 1,2] [--forms none,slow_vent,...] [--trajectory-s 24] [--unstated]
 
-Prints one line per data set and the fraction right with its Wilson 95 % interval; writes OUT/results.json.
-What import cannot state yet is left unstated: what the sweep's torque includes, an ulnar-axis gravity posture,
-angles zeroed at the start, the two rigs' placements; the manifest records each. Trajectory case labels ('steps-1')
-are numbered first, since import reads numbers only.
+--unstated imports as before the conventions could be stated (kind, hand supported, muscle; one placement), for a
+comparison. Prints one line per data set and the fraction right with its Wilson 95 % interval; writes
+OUT/results.json.
 """
 import argparse
 import json
@@ -33,20 +33,28 @@ def run(args, log):
         return subprocess.run(args, stdout=out, stderr=subprocess.STDOUT).returncode
 
 
-def numbered_cases(src, dst):
-    """A copy of a trajectory CSV whose case labels ('steps-1') are numbered: import reads numbers only."""
-    lines = src.read_text().splitlines()
-    header = lines[0].split(',')
-    if 'case' not in header:
-        return src
-    c = header.index('case')
-    labels, out = {}, [lines[0]]
-    for line in lines[1:]:
-        cells = line.split(',')
-        cells[c] = str(labels.setdefault(cells[c], len(labels)))
-        out.append(','.join(cells))
-    dst.write_text('\n'.join(out) + '\n')
-    return dst
+# The paper's two rigs (issue 19): the torque rig of Table torque_measurement_parameters (its flexor; the tensile test
+# is of that fPAM) and the prototype of Table RoM.
+RIGS = {'torque_rig': 'models/torque_rig.json', 'prototype': 'models/rom_device.json'}
+
+
+def import_args(entry, unstated):
+    """What the manifest entry states, as import options."""
+    if unstated:
+        args = ['--hand-supported'] if entry.get('posture') == 'hand_supported' else []
+        return args + (['--muscle', entry['muscle']] if 'muscle' in entry else [])
+    args = ['--model', RIGS[entry['rig']]]
+    if 'posture' in entry:
+        args += ['--posture', entry['posture']]
+    if 'muscle' in entry:
+        args += ['--muscle', entry['muscle']]
+    if 'torque_includes' in entry:
+        args += ['--torque-includes', entry['torque_includes']]
+    if entry.get('angles_zeroed_at_start'):
+        args.append('--angles-zeroed')
+    if 'angle_resolution_deg' in entry:
+        args += ['--angle-resolution-deg', str(entry['angle_resolution_deg'])]
+    return args
 
 
 def expected_label(truth):
@@ -54,7 +62,7 @@ def expected_label(truth):
     return 'unexplained' if labels[0].startswith('outside:') else labels[0]
 
 
-def one_case(sw, out, form, seed, model, trajectory_s):
+def one_case(sw, out, form, seed, model, trajectory_s, unstated):
     case = out / f'{form}-{seed}'
     data, real, diag = case / 'data', case / 'real', case / 'diagnosis'
     generate = [sw, 'generate', '--out', str(data), '--seed', str(seed), '--trajectory-s', str(trajectory_s)]
@@ -66,14 +74,8 @@ def one_case(sw, out, form, seed, model, trajectory_s):
     truth = json.loads((data / 'truth.json').read_text())
     for entry in manifest['files']:
         name = entry['csv'].rsplit('.', 1)[0]
-        csv = data / entry['csv']
-        if entry['kind'] == 'trajectory':
-            csv = numbered_cases(csv, case / f'{name}_numbered.csv')
-        args = [sw, 'import', '--kind', entry['kind'], str(csv), '--out', str(real / name), '--overwrite']
-        if entry.get('posture') == 'hand_supported':
-            args.append('--hand-supported')
-        if 'muscle' in entry:
-            args += ['--muscle', entry['muscle']]
+        args = [sw, 'import', '--kind', entry['kind'], str(data / entry['csv']), '--out', str(real / name),
+                '--overwrite'] + import_args(entry, unstated)
         if run(args, case.with_suffix(f'.import_{name}.log')) != 0:
             return {'form': form, 'seed': seed, 'error': f'import of {entry["csv"]} failed'}
     if run([sw, 'diagnose', '--real', str(real), '--model', model, '--out', str(diag), '--no-plots'],
@@ -81,8 +83,10 @@ def one_case(sw, out, form, seed, model, trajectory_s):
         return {'form': form, 'seed': seed, 'error': 'diagnose failed'}
     d = json.loads((diag / 'diagnosis.json').read_text())
     return {'form': form, 'seed': seed, 'expected': expected_label(truth), 'verdict': d['verdict'],
+            'leading_effect': d.get('leading_effect'), 'explained_fraction': d.get('explained_fraction'),
             'gap_closed': d.get('gap_closed'), 'magnitude_noise_units': truth['magnitude_noise_units'],
-            'conventions': truth['conventions']}
+            'conventions': truth['conventions'],
+            'gaps': {t['experiment']: round(t.get('excess_nominal', float('nan')), 2) for t in d['trials']}}
 
 
 def main():
@@ -93,6 +97,7 @@ def main():
     parser.add_argument('--forms', default='')
     parser.add_argument('--model', default='models/paper_device.json')
     parser.add_argument('--trajectory-s', type=float, default=24.0)
+    parser.add_argument('--unstated', action='store_true', help='import without the manifest\'s conventions')
     a = parser.parse_args()
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -103,14 +108,16 @@ def main():
     results = []
     for seed in [int(s) for s in a.seeds.split(',')]:
         for form in forms:
-            r = one_case(a.softwrist, out, form, seed, a.model, a.trajectory_s)
+            r = one_case(a.softwrist, out, form, seed, a.model, a.trajectory_s, a.unstated)
             results.append(r)
             if 'error' in r:
                 print(f"{form:<24} seed {seed}: {r['error']}", flush=True)
             else:
                 mark = 'right' if r['verdict'] == r['expected'] else 'WRONG'
                 print(f"{form:<24} seed {seed}: expected {r['expected']:<14} verdict {r['verdict']:<14} {mark} "
-                      f"(largest effect {r['magnitude_noise_units']:.1f} noise units)", flush=True)
+                      f"(largest effect {r['magnitude_noise_units']:.1f} noise units; leading "
+                      f"{r['leading_effect'] or '-'} {100 * (r['explained_fraction'] or 0):.0f} %; nominal gaps "
+                      f"{r['gaps']})", flush=True)
     done = [r for r in results if 'error' not in r]
     right = sum(r['verdict'] == r['expected'] for r in done)
     low, high = wilson(right, len(done))

@@ -297,6 +297,35 @@ void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
   command->callback([o, &out] { run_diagnose_bench(*o, out); });
 }
 
+// softwrist import: the user's CSV and what they state of how it was measured (docs/diagnosis.md, "Conventions").
+void add_import_command(CLI::App& app, std::ostream& out) {
+  auto i = std::make_shared<ImportCommandOptions>();
+  auto* import =
+      app.add_subcommand("import", "A CSV of your own measurements as a trial log (units in the column names)");
+  import->add_option("file", i->file, "The CSV")->required();
+  import->add_option("--kind", i->import.kind, "torque-sweep, rom, tensile or trajectory")->required();
+  import->add_option("--out", i->out, "Directory of the log")->required();
+  import->add_flag("--hand-supported", i->import.hand_supported, "A table carried the hand (--posture hand_supported)");
+  import->add_option("--posture", i->import.posture,
+                     "hand_supported, gravity_fe (forearm palm down: the hand's weight flexes) or gravity_ur "
+                     "(thumb up: the weight deviates ulnarly; the default)");
+  import->add_option("--torque-includes", i->import.torque_includes,
+                     "Torque sweeps: what the sensor reads, muscle (default), muscle+passive_wrist, "
+                     "muscle+passive_wrist+hand_weight, muscle+hand_weight, or baseline_subtracted");
+  import->add_flag("--angles-zeroed", i->import.angles_zeroed, "The angles were zeroed at the trial's start");
+  import->add_option("--angle-resolution-deg", i->import.angle_resolution_deg,
+                     "The angle sensor's step (a BNO055: 0.0625)");
+  import->add_option("--model", i->import.placement,
+                     "The placement file of the rig the data came from (default: diagnose's --model)");
+  import->add_option("--muscle", i->import.muscle,
+                     "Torque sweeps without a muscle column: the muscle (default flexor)");
+  import->add_flag("--overwrite", i->import.overwrite, "Replace a log already in --out");
+  import->callback([i, &out] {
+    const auto result = diagnosis::import_csv(i->file, i->out, i->import);
+  out << fmt::format("{} ({} rows)\n", result.log.string(), result.rows);
+});
+}  // namespace softwrist::cli
+
 void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto d = std::make_shared<DiagnoseOptions>();
   auto* diagnose = app.add_subcommand(
@@ -312,63 +341,50 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 
-  auto i = std::make_shared<ImportCommandOptions>();
-  auto* import =
-      app.add_subcommand("import", "A CSV of your own measurements as a trial log (units in the column names)");
-  import->add_option("file", i->file, "The CSV")->required();
-  import->add_option("--kind", i->import.kind, "torque-sweep, rom, tensile or trajectory")->required();
-  import->add_option("--out", i->out, "Directory of the log")->required();
-  import->add_flag("--hand-supported", i->import.hand_supported, "A table carried the hand (no gravity in the replay)");
-  import->add_option("--muscle", i->import.muscle,
-                     "Torque sweeps without a muscle column: the muscle (default flexor)");
-  import->add_flag("--overwrite", i->import.overwrite, "Replace a log already in --out");
-  import->callback([i, &out] {
-    const auto result = diagnosis::import_csv(i->file, i->out, i->import);
-  out << fmt::format("{} ({} rows)\n", result.log.string(), result.rows);
-});
+  add_import_command(app, out);
 
-auto s = std::make_shared<SynthesizeOptions>();
-auto* synth =
-    app.add_subcommand("synthesize",
-                       "\"Real\" data from a simulated device with effects injected: a torque sweep, range of motion, "
-                       "tensile test and trajectory, for trying the diagnosis");
-synth->add_option("--model", s->model, "Placement file of the device before the effects")->required();
-synth->add_option("--out", s->out, "Output directory")->required();
-synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
-synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
-synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
-synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
-synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
-synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
-synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
-synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
-synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
-synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
-synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
-synth->add_option("--repetitions", s->repetitions,
-                  "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
-synth->add_option("--seed", s->seed, "Noise seed (default 1)");
-synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
-                "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
-synth->callback([s, &out] { run_synthesize(*s, out); });
+  auto s = std::make_shared<SynthesizeOptions>();
+  auto* synth = app.add_subcommand(
+      "synthesize",
+      "\"Real\" data from a simulated device with effects injected: a torque sweep, range of motion, "
+      "tensile test and trajectory, for trying the diagnosis");
+  synth->add_option("--model", s->model, "Placement file of the device before the effects")->required();
+  synth->add_option("--out", s->out, "Output directory")->required();
+  synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
+  synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
+  synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
+  synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
+  synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
+  synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
+  synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
+  synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
+  synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
+  synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
+  synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
+  synth->add_option("--repetitions", s->repetitions,
+                    "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
+  synth->add_option("--seed", s->seed, "Noise seed (default 1)");
+  synth->add_flag("--no-measured-pressures", s->no_measured_pressures,
+                  "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
+  synth->callback([s, &out] { run_synthesize(*s, out); });
 
-auto b = std::make_shared<DiagnoseBenchmarkOptions>();
-auto* bench =
-    app.add_subcommand("diagnose-bench",
-                       "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
-                       "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
-bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
-bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
-bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
-bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
-bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
-bench->add_option("--variation", b->variation,
-                  "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
-bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
-bench->add_flag("--json", b->json,
-                "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
-                "confusion, runs, paper_case, wall_s}");
-bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
+  auto b = std::make_shared<DiagnoseBenchmarkOptions>();
+  auto* bench = app.add_subcommand(
+      "diagnose-bench",
+      "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
+      "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
+  bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
+  bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
+  bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
+  bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
+  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
+  bench->add_option("--variation", b->variation,
+                    "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
+  bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
+  bench->add_flag("--json", b->json,
+                  "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
+                  "confusion, runs, paper_case, wall_s}");
+  bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
 }  // namespace softwrist::cli
 
 }  // namespace softwrist::cli

@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "diagnosis/conventions.h"
 #include "diagnosis/real_data.h"
 #include "experiments/trial_log.h"
 #include "io/csv.h"
+#include "sim/device.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -56,6 +58,27 @@ int required_column(const io::CsvTable& table, const std::string& name) {
   return table.column(name);  // throws: missing column, with the columns there are
 }
 
+// The sidecar's config: the import's kind and muscle, and the conventions the user stated, checked as the diagnosis
+// will read them (a relative placement from the working directory, where the user named it).
+nlohmann::json import_config(const ImportOptions& options) {
+  nlohmann::json config = {{"import_kind", options.kind}, {"muscle", options.muscle}};
+  if (options.hand_supported) config["hand_supported"] = true;
+  if (!options.posture.empty()) config["posture"] = options.posture;
+  if (!options.torque_includes.empty()) {
+    if (options.kind != "torque-sweep")
+      throw std::runtime_error(fmt::format("--torque-includes: applies to torque-sweep, not {}", options.kind));
+    config["torque_includes"] = options.torque_includes;
+  }
+  if (options.angles_zeroed) config["angles_zeroed_at_start"] = true;
+  if (options.angle_resolution_deg != 0.0) config["angle_resolution_deg"] = options.angle_resolution_deg;
+  if (!options.placement.empty()) {
+    config["placement"] = fs::absolute(options.placement).lexically_normal().string();
+    (void)sim::load_device(options.placement);  // a placement file that cannot be read fails the import, not later
+  }
+  (void)conventions_from_config(config, fs::current_path(), "import");
+  return config;
+}
+
 }  // namespace
 
 experiments::TrialLog import_table(const io::CsvTable& table, const ImportOptions& options) {
@@ -85,7 +108,7 @@ experiments::TrialLog import_table(const io::CsvTable& table, const ImportOption
   }
   // Numbers first, against the user's own lines (NaN, empty cells, text where a number belongs).
   for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == "muscle" || names[i] == "direction") continue;
+    if (names[i] == "muscle" || names[i] == "direction" || names[i] == "case") continue;  // labels
     for (std::size_t r = 0; r < table.row_count(); ++r) table.number(r, source_columns[i]);
   }
   // The log speaks the project's column names: a trajectory's angles are what the IMUs measured.
@@ -106,8 +129,7 @@ experiments::TrialLog import_table(const io::CsvTable& table, const ImportOption
     columns.push_back({log_name, unit, "imported from " + name});
     log_names.push_back(log_name);
   }
-  const nlohmann::json config = {
-      {"import_kind", options.kind}, {"hand_supported", options.hand_supported}, {"muscle", options.muscle}};
+  const nlohmann::json config = import_config(options);
   experiments::TrialLog log{
       .header = {.kind = spec.log_kind, .source = "import", .config = config, .columns = columns, .case_count = 1},
       .table = table.select(source_columns, log_names)};

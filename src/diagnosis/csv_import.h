@@ -10,9 +10,16 @@
 
 namespace softwrist::diagnosis {
 
+// What the user states of the measurement (docs/diagnosis.md, "Conventions"); each is written into the log's
+// sidecar and read back by conventions_from_config, which checks it.
 struct ImportOptions {
-  std::string kind;               // torque-sweep, rom, tensile, trajectory
-  bool hand_supported = false;    // trajectories and range of motion: a table carried the hand (no gravity)
+  std::string kind;             // torque-sweep, rom, tensile, trajectory
+  bool hand_supported = false;  // a table carried the hand: posture hand_supported
+  std::string posture;          // hand_supported, gravity_fe, gravity_ur; empty: the model's frame
+  std::string torque_includes;  // torque sweeps: muscle, muscle+passive_wrist, ..., baseline_subtracted
+  bool angles_zeroed = false;   // the angles read 0 at the trial's start
+  double angle_resolution_deg = 0.0;
+  std::string placement;          // the rig's placement file; empty: the model given to `diagnose`
   std::string muscle = "flexor";  // torque sweeps without a muscle column
   bool overwrite = false;
 };

@@ -20,12 +20,16 @@ std::runtime_error nothing_left(const Diagnosis& d) {
                                 : "no trial left to diagnose (see the problems listed above)");
 }
 
-// Trials the model cannot replay are reported and left out; so is a trial whose noise cannot be estimated (constant
-// data), which cannot be weighed against the others. Fills d.data.trials and d.prepared.
-void prepare_trials(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nominal) {
+// Trials the model cannot replay are reported and left out (a rig's placement file that cannot be read, a pressure
+// beyond the regulators); so is a trial whose noise cannot be estimated (constant data), which cannot be weighed
+// against the others. Loads each rig the trials name into `nominal`; fills d.data.trials and d.prepared.
+void prepare_trials(Diagnosis& d, ReplayEngine& engine, ModelVariant& nominal) {
   std::vector<Trial> replayable;
   for (Trial& trial : d.data.trials) {
     try {
+      const auto& placement = trial.conventions.placement;
+      if (!placement.empty() && !nominal.rigs.contains(placement))
+        nominal.rigs.emplace(placement, sim::load_device(placement));
       engine.check_replayable(trial, nominal);
       replayable.push_back(std::move(trial));
     } catch (const std::exception& e) {
@@ -53,6 +57,12 @@ double rms(const std::vector<double>& r) {
   return std::sqrt(ss / static_cast<double>(r.size()));
 }
 
+// The systematic part of residuals `r` in units of `noise`: sqrt(max(0, mean (r/noise)^2 - 1)).
+double excess_over_noise(const std::vector<double>& r, double noise) {
+  const double in_noise_units = rms(r) / noise;
+  return std::sqrt(std::max(0.0, in_noise_units * in_noise_units - 1.0));
+}
+
 // A trial's whole gap test (localization's "all").
 LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<double>& residuals) {
   std::vector<std::size_t> all(residuals.size());
@@ -62,7 +72,8 @@ LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<doubl
 
 // Each trial's gap with the nominal model, significant at alpha Bonferroni-corrected over the trials.
 std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepared,
-                                         const std::vector<std::vector<double>>& residuals, double trial_alpha) {
+                                         const std::vector<std::vector<double>>& residuals, double trial_alpha,
+                                         double min_gap) {
   std::vector<TrialGap> gaps;
   for (std::size_t t = 0; t < prepared.size(); ++t) {
     const LocalizationEntry e = trial_test(prepared[t], residuals[t]);
@@ -76,6 +87,8 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
                  .significant = e.p_value < trial_alpha,
                  .points = p.points.size()};
     gap.rms_nominal = rms(residuals[t]);
+    gap.excess_nominal = excess_over_noise(residuals[t], p.noise);
+    gap.gap = gap.significant && gap.excess_nominal >= min_gap;
     gaps.push_back(gap);
   }
   return gaps;
@@ -156,40 +169,74 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
                         const Predictions& corrected_full, double trial_alpha) {
   d.heldout_corrected = problem.heldout_error(problem.heldout_sums(corrected_full));
   std::vector<bool> gap_trials;
-  for (const auto& t : d.trials) gap_trials.push_back(t.significant);
+  for (const auto& t : d.trials) gap_trials.push_back(t.gap);
   d.gap_nominal = problem.heldout_error(problem.heldout_sums(nominal_full), nullptr, &gap_trials);
   d.gap_corrected = problem.heldout_error(problem.heldout_sums(corrected_full), nullptr, &gap_trials);
   for (std::size_t t = 0; t < problem.size(); ++t) {
     const std::vector<double> r = residuals_of(d.prepared[t], corrected_full[t]);
-    d.trials[t].rms_corrected = rms(r);
-    d.remaining_gap_significant = d.remaining_gap_significant || trial_test(d.prepared[t], r).p_value < trial_alpha;
+    TrialGap& gap = d.trials[t];
+    gap.rms_corrected = rms(r);
+    gap.excess_corrected = excess_over_noise(r, d.prepared[t].noise);
+    gap.remaining_significant = trial_test(d.prepared[t], r).p_value < trial_alpha;
+    d.remaining_gap_significant = d.remaining_gap_significant || gap.remaining_significant;
   }
 }
 
-void decide_verdict(Diagnosis& d, bool gap_significant, const DiagnosisOptions& options) {
-  const double closed = d.gap_closed();
-  if (!gap_significant) {
+// How much of the held-out gap the leading effect closes on its own, over the gap trials of the kinds it acts on.
+void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+                       const Predictions& nominal_full) {
+  if (d.combination.empty()) return;
+  const EffectFit& leading = d.combination.front();
+  d.leading_effect = leading.name;
+  const EffectSpec& spec = effect_spec(leading.id);
+  std::vector<bool> acted_on;
+  for (const auto& t : d.trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
+  ModelVariant alone = nominal;
+  apply_effect(leading.id, leading.values, alone);
+  const double before = problem.heldout_error(problem.heldout_sums(nominal_full), nullptr, &acted_on);
+  const double after = problem.heldout_error(problem.heldout_sums(problem.evaluate(alone, false)), nullptr, &acted_on);
+  d.explained_fraction = before > 0.0 ? (before - after) / before : 0.0;
+}
+
+// The trials that still differ beyond their noise with the corrected model, for the reason.
+std::string remaining_gaps(const Diagnosis& d) {
+  std::vector<std::string> names;
+  for (const auto& t : d.trials) {
+    if (t.remaining_significant && t.excess_corrected > 0.0)
+      names.push_back(fmt::format("{} ({:.2f} noise units)", t.experiment, t.excess_corrected));
+  }
+  if (names.empty()) return "no trial keeps a significant gap";
+  return fmt::format("a significant gap remains in {}", fmt::join(names, ", "));
+}
+
+void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
+  const bool any_significant =
+      std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
+  const auto largest = std::max_element(d.trials.begin(), d.trials.end(), [](const TrialGap& a, const TrialGap& b) {
+    return a.excess_nominal < b.excess_nominal;
+  });
+  if (!any_significant) {
     d.verdict = "none";
     d.reason = fmt::format(
-        "no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, "
-        "alpha {} over {} trials)",
+        "no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, alpha {} over {} trials)",
         options.alpha, d.prepared.size());
-  } else if (d.heldout_nominal < options.min_gap) {
+  } else if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; })) {
     d.verdict = "none";
     d.reason = fmt::format(
-        "the nominal model's systematic residual is {:.2f} of the noise on held-out data (below "
-        "{}): detectable in this much data, but within the noise of a measurement",
-        d.heldout_nominal, options.min_gap);
-  } else if (!d.combination.empty() && closed >= options.explained_fraction) {
-    d.verdict = d.combination.front().name;
-    d.reason = fmt::format("{} closes {:.0f} % of the held-out gap on its own ({:.0f} % with the combination)",
-                           d.combination.front().name, 100.0 * d.combination.front().shrink_fraction, 100.0 * closed);
+        "the largest systematic residual of a trial is {:.2f} of its noise ({}; below {}): detectable in this much "
+        "data, but within the noise of a measurement",
+        largest->excess_nominal, largest->experiment, options.min_gap);
+  } else if (!d.combination.empty() && d.explained_fraction >= options.explained_fraction) {
+    d.verdict = d.leading_effect;
+    d.reason = fmt::format("{} explains {:.0f} % of the held-out gap on its own ({:.0f} % with the combination); {}",
+                           d.leading_effect, 100.0 * d.explained_fraction, 100.0 * d.gap_closed(), remaining_gaps(d));
   } else {
     d.verdict = "unexplained";
-    d.reason =
-        d.combination.empty()
-            ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
-            : fmt::format("the gap is significant and the best combination closes only {:.0f} % of it", 100.0 * closed);
+    d.reason = d.combination.empty()
+                   ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
+                   : fmt::format("the gap is significant; {} explains {:.0f} % of it, the rest is unexplained; {}",
+                                 d.leading_effect, 100.0 * d.explained_fraction, remaining_gaps(d));
   }
 }
 
@@ -200,7 +247,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   Diagnosis d;
   d.data = std::move(data);
   d.problems = d.data.problems;
-  const ModelVariant nominal{.device = nominal_device};
+  ModelVariant nominal{.device = nominal_device};
   prepare_trials(d, engine, nominal);
   GapProblem problem(d.prepared, engine);
 
@@ -213,9 +260,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.localization = localize(d.prepared, residuals, nominal_device, options.alpha);
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full));
   const double trial_alpha = options.alpha / static_cast<double>(problem.size());
-  d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha);
-  const bool gap_significant =
-      std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
+  d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha, options.min_gap);
 
   // Attribute: each effect alone, then the greedy combination; measure the corrected model; decide.
   d.effects = fit_each_effect(problem, {.variant = nominal, .training = nominal_training, .full = nominal_full},
@@ -226,7 +271,8 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.corrected.emplace(combination.model);
   d.corrected_predictions = combination.full;
   measure_correction(d, problem, nominal_full, combination.full, trial_alpha);
-  decide_verdict(d, gap_significant, options);
+  measure_explained(d, problem, nominal, nominal_full);
+  decide_verdict(d, options);
   return d;
 }
 

@@ -36,6 +36,8 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["gap_error_corrected"] = d.gap_corrected;
   j["gap_closed"] = d.gap_closed();
   j["remaining_gap_significant"] = d.remaining_gap_significant;
+  j["leading_effect"] = d.leading_effect;
+  j["explained_fraction"] = d.explained_fraction;
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
   j["combination"] = nlohmann::json::array();
@@ -63,6 +65,10 @@ nlohmann::json to_json(const Diagnosis& d) {
                            {"rms_corrected", t.rms_corrected},
                            {"p_value", t.p_value},
                            {"significant", t.significant},
+                           {"excess_nominal", t.excess_nominal},
+                           {"excess_corrected", t.excess_corrected},
+                           {"gap", t.gap},
+                           {"remaining_significant", t.remaining_significant},
                            {"points", t.points}});
   }
   j["skipped"] = nlohmann::json::array();

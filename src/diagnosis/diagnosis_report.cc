@@ -2,11 +2,14 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
 
 #include "io/csv.h"
+#include "physics/units.h"
 #include "report/html_report.h"
+#include "sim/device.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -60,6 +63,37 @@ std::string effect_rows(const std::vector<EffectFit>& fits) {
   return rows;
 }
 
+// OUT/corrected/: the nominal model and each rig's placement file with the fitted effects applied, so the next
+// simulation, optimization or model-based controller uses what the data taught; and what a placement file cannot
+// hold (it acts where the model meets the measurement), to be applied by hand.
+nlohmann::json write_corrected_models(const Diagnosis& d, const fs::path& out, const fs::path& dir) {
+  nlohmann::json info = {{"files", nlohmann::json::array()}, {"not_in_placement", nlohmann::json::array()}};
+  if (!d.corrected) return info;
+  fs::create_directories(dir);
+  const auto write = [&](const sim::DeviceDescription& device, const std::string& name, const std::string& rig) {
+    std::ofstream(dir / name) << sim::device_to_json(device);
+    info["files"].push_back({{"rig", rig}, {"file", fs::relative(dir / name, out).generic_string()}});
+  };
+  write(d.corrected->device, "model.json", "the model given to diagnose (--model)");
+  std::set<std::string> names{"model.json"};
+  for (const auto& [placement, device] : d.corrected->rigs) {
+    std::string name = placement.stem().string() + ".json";
+    for (int k = 2; names.contains(name); ++k) name = fmt::format("{}_{}.json", placement.stem().string(), k);
+    names.insert(name);
+    write(device, name, placement.string());
+  }
+  const ModelVariant& v = *d.corrected;
+  const auto not_held = [&](double value, const std::string& what) {
+    if (value != 0.0) info["not_in_placement"].push_back(fmt::format("{} {:.4g}", what, value));
+  };
+  not_held(v.regulator_dead_time, "regulator dead time [s]");
+  not_held(v.hysteresis, "fPAM force hysteresis fraction (tensile rig)");
+  not_held(units::rad_to_deg(v.imu_offset_fe), "IMU offset, flexion/extension [deg]");
+  not_held(units::rad_to_deg(v.imu_offset_ur), "IMU offset, ulnar/radial [deg]");
+  not_held(v.imu_latency, "IMU latency [s]");
+  return info;
+}
+
 }  // namespace
 
 DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, const DiagnosisReportOptions& options) {
@@ -67,6 +101,7 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
   DiagnosisReport result{.json = out / "diagnosis.json", .page = out / "diagnosis.html"};
   nlohmann::json json = to_json(d);
   json["wall_s"] = options.wall_s;
+  json["corrected_models"] = write_corrected_models(d, out, out / "corrected");
   std::ofstream(result.json) << json.dump(2) << "\n";
   write_curves(d, out / "curves.csv");
   write_residual_map(d, out / "residual_map.csv");

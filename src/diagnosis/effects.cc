@@ -47,7 +47,7 @@ std::vector<EffectSpec> make_catalogue() {
        "passive_wrist",
        "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal",
        {{"stiffness_scale", 0.1, 10.0, true, 1.0}, {"damping_scale", 0.1, 10.0, true, 1.0}},
-       {K::kRangeOfMotion, K::kTrajectory}},
+       {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},  // sweeps whose reading includes the relaxed wrist
       {EffectId::kImuBias,
        "imu_bias",
        "the IMU pair's angles carry an offset and arrive late",
@@ -89,9 +89,17 @@ std::optional<EffectId> effect_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-void apply_effect(EffectId id, std::span<const double> values, ModelVariant& variant) {
-  if (values.size() != effect_spec(id).parameters.size()) throw std::logic_error("wrong number of effect parameters");
-  sim::DeviceDescription& device = variant.device;
+const sim::DeviceDescription& ModelVariant::device_for(const Trial& trial) const {
+  if (trial.conventions.placement.empty()) return device;
+  const auto it = rigs.find(trial.conventions.placement);
+  if (it == rigs.end()) throw std::logic_error("a trial's rig was not loaded: " + trial.conventions.placement.string());
+  return it->second;
+}
+
+namespace {
+
+// The part of effect `id` that lives in a device description (placement file).
+void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDescription& device) {
   switch (id) {
     case EffectId::kMountStretch: {
       // K_s = 1/c^2 with c = 1/sqrt(K1) + 1/sqrt(K2); keep c1:c2 of the ratio source.
@@ -116,10 +124,6 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
     }
     case EffectId::kRegulatorLag:
       device.regulator.time_constant = values[0];
-      variant.regulator_dead_time = values[1];
-      break;
-    case EffectId::kHysteresis:
-      variant.hysteresis = values[0];
       break;
     case EffectId::kWrapGeometry:
       for (std::size_t i = 0; i < device.muscles.size(); ++i) {
@@ -133,11 +137,25 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
       device.wrist.damping_fe *= values[1];
       device.wrist.damping_ur *= values[1];
       break;
+    case EffectId::kHysteresis:
     case EffectId::kImuBias:
-      variant.imu_offset_fe = units::deg_to_rad(values[0]);
-      variant.imu_offset_ur = units::deg_to_rad(values[1]);
-      variant.imu_latency = values[2];
       break;
+  }
+}
+
+}  // namespace
+
+void apply_effect(EffectId id, std::span<const double> values, ModelVariant& variant) {
+  if (values.size() != effect_spec(id).parameters.size()) throw std::logic_error("wrong number of effect parameters");
+  apply_to_device(id, values, variant.device);
+  for (auto& [placement, device] : variant.rigs) apply_to_device(id, values, device);
+  // The parts that act where the model meets the measurement.
+  if (id == EffectId::kRegulatorLag) variant.regulator_dead_time = values[1];
+  if (id == EffectId::kHysteresis) variant.hysteresis = values[0];
+  if (id == EffectId::kImuBias) {
+    variant.imu_offset_fe = units::deg_to_rad(values[0]);
+    variant.imu_offset_ur = units::deg_to_rad(values[1]);
+    variant.imu_latency = values[2];
   }
 }
 

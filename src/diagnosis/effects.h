@@ -5,6 +5,8 @@
 // rest act where the model meets the measurement (regulator dead time on the commands, IMU offset and latency on the
 // angles, loading/unloading hysteresis of the fPAM force on the tensile rig).
 
+#include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -40,11 +42,17 @@ std::optional<EffectId> effect_from_name(std::string_view name);
 
 // The model a replay runs: the nominal device with effects switched on.
 struct ModelVariant {
-  sim::DeviceDescription device;                    // effects that live in the placement file are applied here
+  sim::DeviceDescription device;  // effects that live in the placement file are applied here
+  // The rigs that trials name by their placement file (Conventions::placement), each with the same effects applied
+  // as `device`: a muscle's, a mount's or a regulator's property is fitted once across all rigs.
+  std::map<std::filesystem::path, sim::DeviceDescription> rigs;
   double regulator_dead_time = 0.0;                 // [s] commands reach the regulators this late
   double hysteresis = 0.0;                          // fPAM force x (1 + h) loading, x (1 - h) unloading
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
   double imu_latency = 0.0;                         // [s] the measured angles are this old
+
+  // The device of the trial's rig: its placement file's, or `device` when it names none.
+  const sim::DeviceDescription& device_for(const Trial& trial) const;
 };
 
 // Switches effect `id` on in `variant` with `values` in its spec's units (one per parameter). Values outside a

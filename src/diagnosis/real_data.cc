@@ -182,14 +182,14 @@ std::vector<Trial> trajectory_trials(const experiments::TrialLog& log, Trial bas
 }  // namespace
 
 std::vector<Trial> read_trials(const fs::path& sidecar, const std::string& name) {
-  return trials_from_log(experiments::read_log(sidecar.parent_path(), sidecar.stem().string()), name);
+  return trials_from_log(experiments::read_log(sidecar.parent_path(), sidecar.stem().string()), name,
+                         sidecar.parent_path());
 }
 
-std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name) {
+std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name, const fs::path& log_dir) {
   if (log.table.row_count() == 0) throw std::runtime_error(fmt::format("{}: no rows", log.table.source()));
   Trial base{.name = name, .file = log.table.source()};
-  // A table carried the hand (tracking configs, imports with --hand-supported): the replay has no gravity.
-  if (log.header.config.contains("hand_supported") && log.header.config["hand_supported"] == true) base.gravity = 0.0;
+  base.conventions = conventions_from_config(log.header.config, log_dir, log.table.source());
   const std::string& kind = log.header.kind;
   if (kind == "torque_validation" || kind == "torque_sweep") return sweep_trials(log, base);
   if (kind == "range_of_motion") return rom_trials(log, base);

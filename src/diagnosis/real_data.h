@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "control/plant.h"
+#include "diagnosis/conventions.h"
 #include "experiments/trial_log.h"
 #include "sim/device.h"
 
@@ -55,9 +56,9 @@ struct TrajectorySample {
 
 struct Trial {
   TrialKind kind = TrialKind::kTorqueSweep;
-  std::string name;       // the log's path under the data directory, and the case for trajectories
-  std::string file;       // the CSV, for messages
-  double gravity = 9.81;  // [m/s^2]; 0 when a table carried the hand
+  std::string name;         // the log's path under the data directory, and the case for trajectories
+  std::string file;         // the CSV, for messages
+  Conventions conventions;  // how it was measured, as its log states (conventions.h)
   std::vector<SweepPoint> sweep;
   std::vector<RomPoint> rom;
   std::vector<TensilePoint> tensile;
@@ -80,8 +81,10 @@ struct RealData {
 // without a sidecar too, with the import command that makes one. Throws only when `dir` is not a directory.
 RealData load_real_data(const std::filesystem::path& dir);
 
-// The trials of one log; throws std::runtime_error naming the file, line and column of a problem.
+// The trials of one log; throws std::runtime_error naming the file, line and column of a problem (or the sidecar's
+// field of a convention it cannot read). A relative placement in the sidecar starts from `log_dir`.
 std::vector<Trial> read_trials(const std::filesystem::path& sidecar, const std::string& name);
-std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name);
+std::vector<Trial> trials_from_log(const experiments::TrialLog& log, const std::string& name,
+                                   const std::filesystem::path& log_dir = ".");
 
 }  // namespace softwrist::diagnosis

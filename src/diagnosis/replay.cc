@@ -14,6 +14,7 @@
 #include "sim/model_builder.h"
 #include "sim/simulated_plant.h"
 #include "sim/wrist_sim.h"
+#include "sim/wrist_statics.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -24,7 +25,13 @@ using units::rad_to_deg;
 constexpr double kTrajectoryGroup = 1.0;  // [s] a repeat group of a trajectory: samples whose systematic part is alike
 constexpr double kTrajectoryUnit = 4.0;   // [s] a bootstrap unit
 constexpr double kClusterGap = 2.5;       // [deg] held angles further apart than this are different set angles
-constexpr double kRomSettle = 6.0;        // [s] the range-of-motion experiment's settling time
+// Samples in a window of the windowed noise estimate: 0.35 s at the paper's 14 ms loop, short enough that a
+// quadratic follows the wrist's motion, long enough that the noise's own correlation (tens of ms) stays inside it.
+constexpr std::size_t kNoiseWindow = 25;
+constexpr double kRomSettle = 6.0;  // [s] the range-of-motion experiment's settling time
+// [s] a trajectory whose angles were zeroed at its start is replayed from the wrist settled under its first command
+// this long: the real trial began wherever the wrist rested, not necessarily at the model's neutral angle.
+constexpr double kPreSettle = 2.0;
 // [kPa] the resolution of a logged measured pressure (the bridge protocol's 0.1 kPa, docs/bridge-protocol.md): its
 // quantisation noise, resolution / sqrt(12), is the least noise a pressure trial is weighed with, so a smooth,
 // noise-free log does not make every rounding error significant.
@@ -90,6 +97,54 @@ double second_difference_noise(const std::vector<double>& y) {
   if (d.empty()) return 0.0;
   std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
   return d[d.size() / 2] / 0.6745 / std::sqrt(6.0);
+}
+
+// The measurement noise of a sampled signal from its spread about a quadratic fitted in each window of `window`
+// samples (smooth motion removed), as the median over windows (a window holding a step is an outlier) corrected for
+// the median's bias (Wilson-Hilferty: the median of chi^2_k / k is about (1 - 2/(9k))^3). Unlike second differences,
+// which see only the noise that changes from one sample to the next, it sees coloured noise (a sensor's own filter,
+// slow wander within the window) at nearly its full size; for white noise the two agree.
+double windowed_noise(const std::vector<double>& y, std::size_t window) {
+  std::vector<double> variances;
+  for (std::size_t start = 0; start + window <= y.size(); start += window) {
+    // Least squares of y against 1, x, x^2 with x centred in the window (normal equations: x is symmetric, so odd
+    // moments vanish).
+    double s0 = 0, s2 = 0, s4 = 0, t0 = 0, t1 = 0, t2 = 0;
+    const double mid = 0.5 * static_cast<double>(window - 1);
+    for (std::size_t k = 0; k < window; ++k) {
+      const double x = static_cast<double>(k) - mid, v = y[start + k];
+      s0 += 1;
+      s2 += x * x;
+      s4 += x * x * x * x;
+      t0 += v;
+      t1 += x * v;
+      t2 += x * x * v;
+    }
+    const double c = (s0 * t2 - s2 * t0) / (s0 * s4 - s2 * s2), a = (t0 - c * s2) / s0, b = t1 / s2;
+    double ss = 0.0;
+    for (std::size_t k = 0; k < window; ++k) {
+      const double x = static_cast<double>(k) - mid;
+      ss += std::pow(y[start + k] - (a + b * x + c * x * x), 2);
+    }
+    variances.push_back(ss / static_cast<double>(window - 3));
+  }
+  if (variances.empty()) return 0.0;
+  std::nth_element(variances.begin(), variances.begin() + static_cast<long>(variances.size() / 2), variances.end());
+  const double dof = static_cast<double>(window - 3);
+  return std::sqrt(variances[variances.size() / 2] / std::pow(1.0 - 2.0 / (9.0 * dof), 3));
+}
+
+// The least noise of an angle read with `resolution` [rad] steps: the quantisation's resolution / sqrt(12) [deg].
+double quantisation_noise_deg(double resolution) { return rad_to_deg(resolution) / std::sqrt(12.0); }
+
+// Raises an angle trial's noise to its sensor's quantisation noise, saying so.
+void apply_resolution_floor(PreparedTrial& p) {
+  const double floor = quantisation_noise_deg(p.trial->conventions.angle_resolution);
+  if (p.unit == "deg" && p.noise < floor) {
+    p.noise = floor;
+    p.noise_source = fmt::format("the angle sensor's {:.4g} deg resolution (the estimate, {}, was smaller)",
+                                 rad_to_deg(p.trial->conventions.angle_resolution), p.noise_source);
+  }
 }
 
 PreparedTrial prepare_sweep(const Trial& trial) {
@@ -180,9 +235,12 @@ PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
     }
   }
   double noise2 = 0.0;
+  bool coloured = false;  // the windowed estimate exceeded the second differences'
   for (int c = 0; c < channels; ++c) {
     const auto& yc = y[static_cast<std::size_t>(c)];
-    noise2 += std::pow(second_difference_noise(yc), 2) / channels;
+    const double white = second_difference_noise(yc), windowed = windowed_noise(yc, kNoiseWindow);
+    coloured = coloured || windowed > white;
+    noise2 += std::pow(std::max(white, windowed), 2) / channels;
     for (std::size_t i = 0; i < s.size(); ++i) {
       const std::size_t a = i >= 3 ? i - 3 : 0, b = std::min(s.size() - 1, i + 3);
       const double rate = (yc[b] - yc[a]) / std::max(1e-9, s[b].t - s[a].t);
@@ -204,8 +262,9 @@ PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
   }
   p.noise = std::sqrt(noise2);
   p.noise_dof = static_cast<int>(p.points.size());
-  p.noise_source = pressures ? "second differences of the measured pressures (white sensor noise)"
-                             : "second differences of the measured angles (white IMU noise)";
+  const std::string what = pressures ? "the measured pressures" : "the measured angles";
+  p.noise_source = coloured ? fmt::format("spread of {} about a quadratic in {}-sample windows", what, kNoiseWindow)
+                            : fmt::format("second differences of {} (white sensor noise)", what);
   if (pressures && p.noise < kPressureResolutionKpa / std::sqrt(12.0)) {
     p.noise = kPressureResolutionKpa / std::sqrt(12.0);
     p.noise_source = fmt::format("the logged pressures' {} kPa resolution (their second differences are smaller)",
@@ -215,7 +274,7 @@ PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
 }
 
 std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon) {
-  return fmt::format("{}|{}|{}|{}|{}", trial.name, trial.file, sim::device_to_json(variant.device),
+  return fmt::format("{}|{}|{}|{}|{}", trial.name, trial.file, sim::device_to_json(variant.device_for(trial)),
                      variant.regulator_dead_time, horizon);
 }
 
@@ -248,6 +307,7 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
     if (trial.kind != TrialKind::kTrajectory) {
       estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
     }
+    apply_resolution_floor(p);
     prepared.push_back(std::move(p));
     if (trial.kind == TrialKind::kTrajectory && trial.trajectory.front().measured_kpa) {
       prepared.push_back(prepare_trajectory(trial, true));
@@ -257,7 +317,7 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
 }
 
 void ReplayEngine::check_replayable(const Trial& trial, const ModelVariant& variant) const {
-  const double max_kpa = pa_to_kpa(variant.device.regulator.max_pressure);
+  const double max_kpa = pa_to_kpa(variant.device_for(trial).regulator.max_pressure);
   const auto check = [&](double kpa) {
     if (kpa > max_kpa + 1e-9) {
       throw std::runtime_error(
@@ -290,26 +350,33 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::cached(
 
 sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const Trial& trial) const {
   sim::ModelOptions options;
-  options.gravity = trial.gravity;
+  const auto axis = gravity_axis(trial.conventions.posture);
+  options.gravity = axis ? sim::kStandardGravity : 0.0;
+  if (axis) options.gravity_axis = *axis;
   return sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
 }
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
                                                                       double horizon) {
   return cached(cache_key(trial, variant, horizon), [&] {
-    const sim::Model model = load_model(variant.device, trial);
+    const sim::Model model = load_model(variant.device_for(trial), trial);
     sim::WristSim wrist(model);
     wrist.reset();
+    const auto& samples = trial.trajectory;
+    if (trial.conventions.angles_zeroed_at_start) {
+      wrist.command_pressures_kpa(samples.front().command_kpa);
+      wrist.run(kPreSettle);
+    }
+    const double start = wrist.time();  // the log's t = 0
     auto result = std::make_shared<Simulated>();
     result->dt = model->opt.timestep;
     const auto steps = static_cast<std::size_t>(std::ceil(horizon / result->dt)) + 1;
     result->fe.reserve(steps);
     result->ur.reserve(steps);
     for (auto& p : result->pressure_kpa) p.reserve(steps);
-    const auto& samples = trial.trajectory;
     std::size_t next = 0;  // the next logged command not yet applied
     for (std::size_t k = 0; k < steps; ++k) {
-      const double commanded_at = wrist.time() - variant.regulator_dead_time;
+      const double commanded_at = wrist.time() - start - variant.regulator_dead_time;
       bool changed = false;
       while (next < samples.size() && samples[next].t <= commanded_at + 1e-12) {
         ++next;
@@ -323,7 +390,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
       }
       wrist.run(result->dt);
       if (!std::isfinite(result->fe.back()) || !std::isfinite(result->ur.back())) {
-        throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time()));
+        throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time() - start));
       }
     }
     return std::shared_ptr<const Simulated>(std::move(result));
@@ -357,64 +424,109 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
   });
 }
 
+namespace {
+
+// What a torque sweep's sensor reads at one point (conventions.h), positive in the muscle's own direction: the
+// muscle's torque, plus the relaxed wrist's and the hand's weight's where the log says the reading includes them, or
+// less the same angle's reading at 0 kPa.
+double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& wrist, const SweepPoint& s,
+                     const Conventions& c) {
+  const double direction = physics::direction_of(s.muscle);
+  const double torque = physics::muscle_state(muscle, direction * s.angle, s.pressure).torque;
+  if (c.torque.baseline_subtracted) return torque - physics::muscle_state(muscle, direction * s.angle, 0.0).torque;
+  const physics::WristAxis axis = physics::axis_of(s.muscle);
+  double other = 0.0;  // [N m] towards flexion / ulnar deviation
+  if (c.torque.passive_wrist) other -= wrist.stiffness(axis) * s.angle;
+  // The hand's weight about the axis it turns, m g c cos(angle), largest with the hand level (wrist_statics.h).
+  if (c.torque.hand_weight && gravity_axis(c.posture) == axis) other += wrist.hand_weight_moment * std::cos(s.angle);
+  return torque + direction * other;
+}
+
+}  // namespace
+
 std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const ModelVariant& variant,
                                           bool training_only) {
   const Trial& trial = *prepared.trial;
-  const sim::DeviceDescription& device = variant.device;
-  std::vector<double> out(prepared.points.size(), NAN);
   switch (trial.kind) {
-    case TrialKind::kTorqueSweep: {
-      std::array<std::optional<physics::Muscle>, 4> muscles;
-      for (std::size_t i = 0; i < trial.sweep.size(); ++i) {
-        const SweepPoint& s = trial.sweep[i];
-        if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-        out[i] =
-            physics::muscle_state(*muscles[s.muscle], physics::direction_of(s.muscle) * s.angle, s.pressure).torque;
-      }
-      break;
-    }
-    case TrialKind::kRangeOfMotion: {
-      // The same muscle and pressure settle alike: one simulation per condition, in the order of the map.
-      std::map<std::pair<int, double>, double> settled;
-      for (const RomPoint& r : trial.rom) settled.try_emplace({r.muscle, r.pressure}, 0.0);
-      std::vector<std::pair<int, double>> conditions;
-      for (const auto& [condition, angle] : settled) conditions.push_back(condition);
-      const auto simulated = settle(trial, device, conditions);
-      std::size_t k = 0;
-      for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
-      for (std::size_t i = 0; i < trial.rom.size(); ++i)
-        out[i] = settled.at({trial.rom[i].muscle, trial.rom[i].pressure});
-      break;
-    }
-    case TrialKind::kTensile:
-      for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
-        const TensilePoint& t = trial.tensile[i];
+    case TrialKind::kTorqueSweep:
+      return predict_sweep(trial, variant.device_for(trial));
+    case TrialKind::kRangeOfMotion:
+      return predict_rom(trial, variant.device_for(trial));
+    case TrialKind::kTensile: {
+      std::vector<double> out;
+      for (const TensilePoint& t : trial.tensile) {
         const double h = t.loading ? variant.hysteresis : -variant.hysteresis;
-        out[i] = physics::fpam_force(device.fpam, t.pressure, t.contraction) * (1.0 + h);
+        out.push_back(physics::fpam_force(variant.device_for(trial).fpam, t.pressure, t.contraction) * (1.0 + h));
       }
-      break;
-    case TrialKind::kTrajectory: {
-      const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
-      const auto simulated = simulate(trial, variant, horizon);
-      const double imu_period = sim::ImuModel{}.period_s;
-      const std::size_t n = trial.trajectory.size();
-      for (std::size_t i = 0; i < prepared.points.size(); ++i) {
-        const Point& point = prepared.points[i];
-        if (training_only && point.heldout) continue;
-        const double t = trial.trajectory[i % n].t;
-        if (prepared.pressures) {  // the regulator's monitor output, read with the row
-          const auto& series = simulated->pressure_kpa[static_cast<std::size_t>(point.channel - 2)];
-          out[i] = series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))];
-          continue;
-        }
-        // The reading the IMUs last sampled (every 10 ms), `latency` late.
-        const double sampled = std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period);
-        const auto& series = point.channel == 0 ? simulated->fe : simulated->ur;
-        const auto k = std::min(series.size() - 1, static_cast<std::size_t>(std::lround(sampled / simulated->dt)));
-        out[i] = rad_to_deg(series[k] + (point.channel == 0 ? variant.imu_offset_fe : variant.imu_offset_ur));
-      }
-      break;
+      return out;
     }
+    case TrialKind::kTrajectory:
+      return predict_trajectory(prepared, variant, training_only);
+  }
+  return {};
+}
+
+std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const {
+  std::array<std::optional<physics::Muscle>, 4> muscles;
+  const physics::WristModel wrist = sim::wrist_model(device);
+  std::vector<double> out;
+  for (const SweepPoint& s : trial.sweep) {
+    if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
+    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions));
+  }
+  return out;
+}
+
+std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::DeviceDescription& device) {
+  // The same muscle and pressure settle alike: one simulation per condition, in the order of the map. Angles zeroed
+  // at the start are read from where each muscle's axis rests at 0 kPa (under the hand's weight, if any).
+  const bool zeroed = trial.conventions.angles_zeroed_at_start;
+  std::map<std::pair<int, double>, double> settled;
+  for (const RomPoint& r : trial.rom) {
+    settled.try_emplace({r.muscle, r.pressure}, 0.0);
+    if (zeroed) settled.try_emplace({r.muscle, 0.0}, 0.0);
+  }
+  std::vector<std::pair<int, double>> conditions;
+  for (const auto& [condition, angle] : settled) conditions.push_back(condition);
+  const auto simulated = settle(trial, device, conditions);
+  std::size_t k = 0;
+  for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
+  std::vector<double> out;
+  for (const RomPoint& r : trial.rom) {
+    out.push_back(settled.at({r.muscle, r.pressure}) - (zeroed ? settled.at({r.muscle, 0.0}) : 0.0));
+  }
+  return out;
+}
+
+std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
+                                                     bool training_only) {
+  const Trial& trial = *prepared.trial;
+  const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
+  const auto simulated = simulate(trial, variant, horizon);
+  const double imu_period = sim::ImuModel{}.period_s;
+  const std::size_t n = trial.trajectory.size();
+  // The reading the IMUs last sampled (every 10 ms) before `t`, `latency` late, of `series`.
+  const auto imu_reading = [&](const std::vector<double>& series, double t) {
+    const double sampled = std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period);
+    return series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(sampled / simulated->dt)))];
+  };
+  // Zeroed angles read 0 at the first row: the replay's own angles then are subtracted.
+  const bool zeroed = trial.conventions.angles_zeroed_at_start;
+  const double t0 = trial.trajectory.front().t;
+  const double zero_fe = zeroed ? imu_reading(simulated->fe, t0) : 0.0;
+  const double zero_ur = zeroed ? imu_reading(simulated->ur, t0) : 0.0;
+  std::vector<double> out(prepared.points.size(), NAN);
+  for (std::size_t i = 0; i < prepared.points.size(); ++i) {
+    const Point& point = prepared.points[i];
+    if (training_only && point.heldout) continue;
+    const double t = trial.trajectory[i % n].t;
+    if (prepared.pressures) {  // the regulator's monitor output, read with the row
+      const auto& series = simulated->pressure_kpa[static_cast<std::size_t>(point.channel - 2)];
+      out[i] = series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))];
+      continue;
+    }
+    out[i] = point.channel == 0 ? rad_to_deg(imu_reading(simulated->fe, t) - zero_fe + variant.imu_offset_fe)
+                                : rad_to_deg(imu_reading(simulated->ur, t) - zero_ur + variant.imu_offset_ur);
   }
   return out;
 }

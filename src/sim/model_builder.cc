@@ -83,6 +83,14 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
   return items;
 }
 
+// The world's gravity. The forearm body is turned +90 deg about x, so the hand's palmar side (-z of the forearm)
+// faces world +y: gravity along +y flexes the wrist; along -z it deviates the wrist ulnarly (-y of the forearm).
+std::string gravity_vector(const ModelOptions& options) {
+  if (options.gravity_axis == physics::WristAxis::kFlexionExtension)
+    return fmt::format("0 {:.10g} 0", options.gravity + 0.0);
+  return fmt::format("0 0 {:.10g}", -options.gravity);
+}
+
 }  // namespace
 
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options) {
@@ -99,7 +107,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
        damping: approximately Charles & Hogan 2011 (J Biomech 44:614) and Formica et al. 2012 (J Neurophysiol
        108:1158, ulnar/radial stiffer than flexion/extension). Joint ranges: biological range of motion, Table RoM. -->
   <compiler angle="radian" inertiafromgeom="false"/>
-  <option timestep="{timestep:.10g}" gravity="0 0 {gravity:.10g}"/>
+  <option timestep="{timestep:.10g}" gravity="{gravity}"/>
   <visual><global offwidth="1280" offheight="960"/></visual>
   <custom>
 {custom}  </custom>
@@ -123,7 +131,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
 {actuators}  </actuator>
 </mujoco>
 )",
-      fmt::arg("timestep", options.timestep), fmt::arg("gravity", -options.gravity), fmt::arg("custom", custom),
+      fmt::arg("timestep", options.timestep), fmt::arg("gravity", gravity_vector(options)), fmt::arg("custom", custom),
       fmt::arg("forearm_items", forearm_items), fmt::arg("hand_items", hand_items), fmt::arg("tendons", tendons),
       fmt::arg("actuators", actuators), fmt::arg("ext", -w.extension_limit), fmt::arg("flex", w.flexion_limit),
       fmt::arg("rad", -w.radial_limit), fmt::arg("uln", w.ulnar_limit), fmt::arg("kfe", w.stiffness_fe),

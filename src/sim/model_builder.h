@@ -11,6 +11,7 @@
 
 #include <string>
 
+#include "physics/exosuit_layout.h"
 #include "sim/device.h"
 
 namespace softwrist::sim {
@@ -26,6 +27,9 @@ struct ModelOptions {
   // [m/s^2] along -z of the world; 0 when a table carries the hand (Section Planar angle tracking: the wrist moves
   // in the horizontal plane with the forearm on the table).
   double gravity = 9.81;
+  // The wrist axis the hand's weight turns: ulnar/radial deviation (the frame above: forearm horizontal, thumb up),
+  // or flexion/extension (the forearm turned palm down, so the weight flexes the wrist).
+  physics::WristAxis gravity_axis = physics::WristAxis::kUlnarRadial;
 };
 
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});

@@ -14,6 +14,7 @@
 #include "diagnosis/benchmark.h"
 #include "diagnosis/csv_import.h"
 #include "diagnosis/synthetic_device.h"
+#include "io/csv.h"
 #include "sim/device.h"
 #include "support/scratch_dir_test.h"
 
@@ -215,6 +216,78 @@ TEST_F(DiagnosisTest, ReplayBeyondTheRegulatorsIsReportedNotRun) {
       std::runtime_error);
 }
 
+// Section Torque applied by the exosuit measures the flexor's torque "to the relaxed wrist": a sensor on the hand
+// plate reads the muscle's torque plus the relaxed wrist's, -k angle. Undeclared, that is a gap nothing of the muscle
+// closes; declared at import (--torque-includes muscle+passive_wrist), the nominal model has none; and a wrist 2.5
+// times stiffer than the nominal's, declared, is named passive_wrist (which now acts on such sweeps).
+TEST_F(DiagnosisTest, SweepReadingTheRelaxedWristToo) {
+  const sim::DeviceDescription nominal = paper_device();
+  const auto diagnose_sweep = [&](double stiffness_scale, const std::string& includes) {
+    SyntheticDevice real{.device = nominal};
+    real.device.wrist.stiffness_fe *= stiffness_scale;
+    const fs::path synth = dir_ / fmt::format("synth_{}", stiffness_scale);
+    write_synthetic_data(real, {.range_of_motion = false, .tensile = false, .trajectory = false}, synth);
+    const io::CsvTable sweep = io::CsvTable::Read(synth / "torque_sweep/trials.csv");
+    std::string csv = "angle_deg,pressure_kpa,torque_nm,repetition\n";
+    for (std::size_t r = 0; r < sweep.row_count(); ++r) {
+      const double angle_deg = sweep.number(r, sweep.column("angle_deg"));
+      const double relaxed_wrist = -real.device.wrist.stiffness_fe * angle_deg * M_PI / 180.0;
+      csv += fmt::format("{},{},{},{}\n", angle_deg, sweep.number(r, sweep.column("pressure_kpa")),
+                         sweep.number(r, sweep.column("torque_nm")) + relaxed_wrist,
+                         sweep.cell(r, sweep.column("repetition")));
+    }
+    const fs::path user = dir_ / fmt::format("user_{}_{}", stiffness_scale, includes);
+    fs::create_directories(user);
+    std::ofstream(user / "sweep.csv") << csv;
+    import_csv(user / "sweep.csv", user / "log", {.kind = "torque-sweep", .torque_includes = includes});
+    fs::remove(user / "sweep.csv");
+    return diagnose(load_real_data(user), nominal, engine_, {.bootstrap = 100});
+  };
+  const Diagnosis undeclared = diagnose_sweep(1.0, "");
+  EXPECT_NE(undeclared.verdict, "none") << undeclared.reason;
+  EXPECT_TRUE(undeclared.trials.at(0).gap);
+  const Diagnosis declared = diagnose_sweep(1.0, "muscle+passive_wrist");
+  EXPECT_EQ(declared.verdict, "none") << declared.reason;
+  const Diagnosis stiffer = diagnose_sweep(2.5, "muscle+passive_wrist");
+  EXPECT_EQ(stiffer.verdict, "passive_wrist") << stiffer.reason;
+  EXPECT_NEAR(param(fit_of(stiffer, EffectId::kPassiveWrist), "stiffness_scale"), 2.5, 0.1);
+}
+
+// Issue 19's two rigs: the torque sweep from the torque rig (Table torque_measurement_parameters, the paper's device)
+// and the range of motion and trajectory from the prototype (Table RoM), whose mounts stretch alike (the paper's K1,
+// K2). Each log names its rig's placement file; one diagnosis of the one directory recovers the series stiffness once,
+// from both rigs' data, and the corrected model fits both.
+TEST_F(DiagnosisTest, TwoRigsInOneDirectoryShareTheMountStiffness) {
+  const auto rigid = [&](sim::DeviceDescription device, const std::string& name) {
+    device.stretch_mode = physics::StretchMode::kNone;
+    std::ofstream(dir_ / name) << sim::device_to_json(device);
+    return dir_ / name;
+  };
+  const fs::path torque_rig = rigid(paper_device(), "torque_rig_rigid.json");
+  const fs::path prototype = rigid(sim::rom_device(), "prototype_rigid.json");
+  // Both real rigs stretch with the paper's K1, K2 (rom_device carries the torque rig's, the only K the paper gives).
+  write_synthetic_data({.device = paper_device()}, {.range_of_motion = false, .tensile = false, .trajectory = false},
+                       dir_ / "real/torque_rig");
+  write_synthetic_data({.device = sim::rom_device()}, {.torque_sweep = false, .tensile = false, .trajectory_s = 12.0},
+                       dir_ / "real/prototype");
+  const auto name_rig = [](const fs::path& sidecar, const fs::path& placement) {
+    nlohmann::json json = nlohmann::json::parse(std::ifstream(sidecar));
+    json["config"]["placement"] = placement.string();
+    std::ofstream(sidecar) << json.dump(2);
+  };
+  for (const fs::path& sidecar : {dir_ / "real/torque_rig/torque_sweep/trials.json"}) name_rig(sidecar, torque_rig);
+  for (const char* log : {"range_of_motion", "trajectory"})
+    name_rig(dir_ / "real/prototype" / log / "trials.json", prototype);
+
+  // The default model is neither rig: every log names its own.
+  const Diagnosis d = diagnose(load_real_data(dir_ / "real"), sim::rom_device(), engine_, {.bootstrap = 100});
+  ASSERT_EQ(d.verdict, "mount_stretch") << d.reason;
+  EXPECT_NEAR(param(d.combination.front(), "K_series_n_per_cm2"), 30.16, 1.5);  // as in the paper's case above
+  ASSERT_TRUE(d.corrected.has_value());
+  EXPECT_EQ(d.corrected->rigs.size(), 2u);
+  for (const auto& t : d.trials) EXPECT_LT(t.excess_corrected, 1.0) << t.experiment;
+}
+
 TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
   const auto write = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
@@ -281,7 +354,38 @@ TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
   // --hand-supported reaches the replay of any kind, here a range of motion.
   import_csv(write("rom.csv", "muscle,pressure_kpa,limit_deg\nflexor,137,30\n"), dir_ / "rom",
              {.kind = "rom", .hand_supported = true});
-  EXPECT_EQ(read_trials(dir_ / "rom/trials.json", "rom").at(0).gravity, 0.0);
+  EXPECT_EQ(read_trials(dir_ / "rom/trials.json", "rom").at(0).conventions.posture, Posture::kHandSupported);
+
+  // The conventions a user states reach the trial; a bad one is refused naming its field, and nothing is written.
+  import_csv(write("rom2.csv", "muscle,pressure_kpa,limit_deg\nflexor,137,30\n"), dir_ / "rom2",
+             {.kind = "rom",
+              .posture = "gravity_fe",
+              .angles_zeroed = true,
+              .angle_resolution_deg = 0.0625,
+              .placement = (fs::path(SOFTWRIST_SOURCE_DIR) / "models/rom_device.json").string()});
+  const Conventions c = read_trials(dir_ / "rom2/trials.json", "rom2").at(0).conventions;
+  EXPECT_EQ(c.posture, Posture::kGravityFe);
+  EXPECT_TRUE(c.angles_zeroed_at_start);
+  EXPECT_NEAR(c.angle_resolution, 0.0625 * M_PI / 180.0, 1e-15);
+  EXPECT_EQ(c.placement, fs::path(SOFTWRIST_SOURCE_DIR) / "models/rom_device.json");
+  const auto refused = [&](ImportOptions options) {
+    options.kind = options.kind.empty() ? "rom" : options.kind;
+    try {
+      import_csv(dir_ / (options.kind == "rom" ? "rom2.csv" : "ok.csv"), dir_ / "refused", options);
+    } catch (const std::runtime_error& e) {
+      EXPECT_FALSE(fs::exists(dir_ / "refused/trials.csv"));
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(refused({.posture = "upside_down"}).find("config.posture: 'upside_down'"), std::string::npos);
+  EXPECT_NE(refused({.torque_includes = "muscle"}).find("--torque-includes: applies to torque-sweep, not rom"),
+            std::string::npos);
+  EXPECT_NE(refused({.kind = "torque-sweep", .torque_includes = "muscle+gravity"})
+                .find("config.torque_includes: 'muscle+gravity'"),
+            std::string::npos);
+  EXPECT_NE(refused({.placement = (dir_ / "missing.json").string()}).find("missing.json"), std::string::npos);
+  EXPECT_NE(refused({.angle_resolution_deg = -1}).find("config.angle_resolution_deg: must be >= 0"), std::string::npos);
 }
 
 }  // namespace

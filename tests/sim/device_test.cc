@@ -20,6 +20,8 @@ TEST(PaperDevice, ShippedPlacementFileAndModelMatchTheGenerator) {
   EXPECT_EQ(io::read_text_file(kModels / "paper_device.xml"),
             build_model_xml(load_device(kModels / "paper_device.json")));
   EXPECT_EQ(io::read_text_file(kModels / "rom_device.json"), device_to_json(rom_device()));
+  // The torque rig (Table torque_measurement_parameters) is the paper's device: its flexor is the rig's.
+  EXPECT_EQ(io::read_text_file(kModels / "torque_rig.json"), device_to_json(paper_device()));
 }
 
 // Table torque_measurement_parameters for the flexor, Table RoM for the other three.
