@@ -33,9 +33,11 @@ def run(args, log):
         return subprocess.run(args, stdout=out, stderr=subprocess.STDOUT).returncode
 
 
-# The paper's two rigs (issue 19): the torque rig of Table torque_measurement_parameters (its flexor; the tensile test
-# is of that fPAM) and the prototype of Table RoM.
-RIGS = {'torque_rig': 'models/torque_rig.json', 'prototype': 'models/rom_device.json'}
+# The independent device's two rigs as its owner would describe them (experiments/independent_device/README.md):
+# the torque rig of Table torque_measurement_parameters (its flexor; the tensile test is of that fPAM) and the
+# prototype of Table RoM.
+RIGS = {'torque_rig': 'experiments/independent_device/torque_rig.json',
+        'prototype': 'experiments/independent_device/prototype.json'}
 
 
 def import_args(entry, unstated):
@@ -95,7 +97,7 @@ def main():
     parser.add_argument('--out', required=True)
     parser.add_argument('--seeds', default='1')
     parser.add_argument('--forms', default='')
-    parser.add_argument('--model', default='models/paper_device.json')
+    parser.add_argument('--model', default=RIGS['prototype'])
     parser.add_argument('--trajectory-s', type=float, default=24.0)
     parser.add_argument('--unstated', action='store_true', help='import without the manifest\'s conventions')
     a = parser.parse_args()
