@@ -35,9 +35,10 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTrajectory}},
       {EffectId::kHysteresis,
        "hysteresis",
-       "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h)",
+       "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h), on the "
+       "tensile rig and at a torque sweep's held angles reached from either side (the log's order)",
        {{"fraction", 0.0, 0.4, false, 0.0}},
-       {K::kTensile}},
+       {K::kTensile, K::kTorqueSweep}},
       {EffectId::kWrapGeometry,
        "wrap_geometry",
        "the wrist the muscles wrap around has another radius (Eqns. parameters2, length, tau2)",

@@ -1,7 +1,9 @@
 #include "diagnosis/real_data.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <numeric>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -27,6 +29,20 @@ const char* to_string(TrialKind kind) {
       return "trajectory";
   }
   return "?";
+}
+
+// Cluster index of each value: sorted, a new cluster where the gap exceeds `gap`.
+std::vector<int> clusters(const std::vector<double>& values, double gap) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  std::vector<int> id(values.size(), 0);
+  int current = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k > 0 && values[order[k]] - values[order[k - 1]] > gap) ++current;
+    id[order[k]] = current;
+  }
+  return id;
 }
 
 std::size_t Trial::size() const { return sweep.size() + rom.size() + tensile.size() + trajectory.size(); }
@@ -67,6 +83,34 @@ double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, in
   return kpa;
 }
 
+// How the wrist came to each held angle, in the log's order per muscle and repetition: the direction of the last
+// change of set angle (clusters of held angles), kept while the angle is held (other pressures). Per repetition, so
+// that a file sorted by angle with the repetitions side by side still gives each repetition's own direction; a
+// repetition's first angle is 0 (not known). A muscle whose angles were all reached the same way keeps 0: one branch
+// of the loop alone is a force scale, which the fPAM's parameters already fit, not evidence of hysteresis.
+void set_sweep_motion(std::vector<SweepPoint>& sweep) {
+  std::map<std::pair<int, int>, std::vector<std::size_t>> rows;  // per muscle and repetition, in the log's order
+  for (std::size_t i = 0; i < sweep.size(); ++i) rows[{sweep[i].muscle, sweep[i].repetition}].push_back(i);
+  for (const auto& [key, indices] : rows) {
+    std::vector<double> angles;
+    for (std::size_t i : indices) angles.push_back(units::rad_to_deg(sweep[i].angle));
+    const std::vector<int> set_angle = clusters(angles, kHeldAngleGapDeg);
+    int motion = 0;
+    for (std::size_t k = 1; k < indices.size(); ++k) {
+      if (set_angle[k] != set_angle[k - 1]) motion = set_angle[k] > set_angle[k - 1] ? 1 : -1;
+      sweep[indices[k]].motion = motion;
+    }
+  }
+  std::map<int, std::pair<bool, bool>> ways;  // per muscle: reached moving up, moving down
+  for (const SweepPoint& s : sweep) {
+    if (s.motion > 0) ways[s.muscle].first = true;
+    if (s.motion < 0) ways[s.muscle].second = true;
+  }
+  for (SweepPoint& s : sweep) {
+    if (!(ways[s.muscle].first && ways[s.muscle].second)) s.motion = 0;
+  }
+}
+
 std::vector<Trial> sweep_trials(const experiments::TrialLog& log, Trial base) {
   const io::CsvTable& t = log.table;
   const int c_angle = t.column("angle_deg"), c_pressure = t.column("pressure_kpa"), c_torque = t.column("torque_nm");
@@ -83,6 +127,7 @@ std::vector<Trial> sweep_trials(const experiments::TrialLog& log, Trial base) {
                           .torque = t.number(r, c_torque),
                           .repetition = integer_cell(t, r, c_rep)});
   }
+  set_sweep_motion(base.sweep);
   return {base};
 }
 

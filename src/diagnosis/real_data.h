@@ -26,6 +26,9 @@ struct SweepPoint {
   double pressure = 0.0;  // [Pa]
   double torque = 0.0;    // [N m] positive in the muscle's own direction
   int repetition = 0;
+  // How the wrist came to this held angle, from the log's order: +1 moving towards flexion / ulnar deviation, -1 the
+  // other way, 0 not known (a repetition's first angle). A fabric muscle's force depends on it (hysteresis).
+  int motion = 0;
 };
 
 // Where one muscle alone settles the relaxed wrist (Section Range of motion).
@@ -75,6 +78,12 @@ struct RealData {
   std::vector<Trial> trials;
   std::vector<FileProblem> problems;  // files (or trials) left out, each with the reason
 };
+
+// Cluster index of each value: sorted, a new cluster where the gap to the next exceeds `gap` (the held angles of a
+// sweep, the pressure levels of a tensile test).
+std::vector<int> clusters(const std::vector<double>& values, double gap);
+// [deg] held angles further apart than this are different set angles (a held angle's own jitter is smaller).
+inline constexpr double kHeldAngleGapDeg = 2.5;
 
 // Every log (a <name>.json sidecar of format softwrist.log/1 beside its <name>.csv) under `dir`, recursively, in
 // path order. Logs of kinds without measurements to compare (design optimization) are listed as problems; a CSV

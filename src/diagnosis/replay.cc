@@ -24,7 +24,6 @@ using units::rad_to_deg;
 
 constexpr double kTrajectoryGroup = 1.0;  // [s] a repeat group of a trajectory: samples whose systematic part is alike
 constexpr double kTrajectoryUnit = 4.0;   // [s] a bootstrap unit
-constexpr double kClusterGap = 2.5;       // [deg] held angles further apart than this are different set angles
 // Samples in a window of the windowed noise estimate: 0.35 s at the paper's 14 ms loop, short enough that a
 // quadratic follows the wrist's motion, long enough that the noise's own correlation (tens of ms) stays inside it.
 constexpr std::size_t kNoiseWindow = 25;
@@ -36,20 +35,6 @@ constexpr double kPreSettle = 2.0;
 // quantisation noise, resolution / sqrt(12), is the least noise a pressure trial is weighed with, so a smooth,
 // noise-free log does not make every rounding error significant.
 constexpr double kPressureResolutionKpa = 0.1;
-
-// Cluster index of each value: sorted, a new cluster where the gap exceeds `gap`.
-std::vector<int> clusters(const std::vector<double>& values, double gap) {
-  std::vector<std::size_t> order(values.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
-  std::vector<int> id(values.size(), 0);
-  int current = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k > 0 && values[order[k]] - values[order[k - 1]] > gap) ++current;
-    id[order[k]] = current;
-  }
-  return id;
-}
 
 // Dense ids for arbitrary keys, in order of first appearance.
 template <class Key>
@@ -152,12 +137,12 @@ PreparedTrial prepare_sweep(const Trial& trial) {
   std::map<int, std::vector<std::size_t>> by_muscle;
   for (std::size_t i = 0; i < trial.sweep.size(); ++i) by_muscle[trial.sweep[i].muscle].push_back(i);
   p.points.resize(trial.sweep.size());
-  Ids<std::tuple<int, int, long>> groups;
+  Ids<std::tuple<int, int, long, int>> groups;  // a held angle reached from either side is two conditions
   Ids<std::pair<int, int>> units;
   for (const auto& [muscle, rows] : by_muscle) {
     std::vector<double> angles;
     for (std::size_t i : rows) angles.push_back(rad_to_deg(trial.sweep[i].angle));
-    const std::vector<int> cluster = clusters(angles, kClusterGap);
+    const std::vector<int> cluster = clusters(angles, kHeldAngleGapDeg);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const SweepPoint& s = trial.sweep[rows[k]];
       Point& point = p.points[rows[k]];
@@ -165,7 +150,8 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       point.angle_deg = angles[k];
       point.pressure_kpa = pa_to_kpa(s.pressure);
       point.muscle = muscle;
-      point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa)});
+      point.motion = s.motion;
+      point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa), s.motion});
       point.unit = units({muscle, cluster[k]});
       point.heldout = cluster[k] % 2 == 1;  // every other held angle
     }
@@ -429,11 +415,16 @@ namespace {
 // What a torque sweep's sensor reads at one point (conventions.h), positive in the muscle's own direction: the
 // muscle's torque, plus the relaxed wrist's and the hand's weight's where the log says the reading includes them, or
 // less the same angle's reading at 0 kPa.
+// Hysteresis (ModelVariant::hysteresis) scales the muscle's pull by 1 + h while it was being stretched into the held
+// angle and 1 - h while it shortened into it, as on the tensile rig.
 double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& wrist, const SweepPoint& s,
-                     const Conventions& c) {
+                     const Conventions& c, double hysteresis) {
   const double direction = physics::direction_of(s.muscle);
-  const double torque = physics::muscle_state(muscle, direction * s.angle, s.pressure).torque;
-  if (c.torque.baseline_subtracted) return torque - physics::muscle_state(muscle, direction * s.angle, 0.0).torque;
+  // The muscle lengthens as the wrist moves against its own direction.
+  const double history = 1.0 - hysteresis * direction * s.motion;
+  const double torque = history * physics::muscle_state(muscle, direction * s.angle, s.pressure).torque;
+  if (c.torque.baseline_subtracted)
+    return torque - history * physics::muscle_state(muscle, direction * s.angle, 0.0).torque;
   const physics::WristAxis axis = physics::axis_of(s.muscle);
   double other = 0.0;  // [N m] towards flexion / ulnar deviation
   if (c.torque.passive_wrist) other -= wrist.stiffness(axis) * s.angle;
@@ -449,7 +440,7 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
   const Trial& trial = *prepared.trial;
   switch (trial.kind) {
     case TrialKind::kTorqueSweep:
-      return predict_sweep(trial, variant.device_for(trial));
+      return predict_sweep(trial, variant.device_for(trial), variant.hysteresis);
     case TrialKind::kRangeOfMotion:
       return predict_rom(trial, variant.device_for(trial));
     case TrialKind::kTensile: {
@@ -466,13 +457,14 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
   return {};
 }
 
-std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const {
+std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device,
+                                                double hysteresis) const {
   std::array<std::optional<physics::Muscle>, 4> muscles;
   const physics::WristModel wrist = sim::wrist_model(device);
   std::vector<double> out;
   for (const SweepPoint& s : trial.sweep) {
     if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions));
+    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions, hysteresis));
   }
   return out;
 }
