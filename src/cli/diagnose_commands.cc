@@ -88,7 +88,7 @@ struct SynthesizeOptions {
   std::string model, out;
   std::string mount_stiffness;  // K1,K2 in N/cm^2
   double dead_time_s = 0.0, imu_latency_s = 0.0, hysteresis = 0.0, wrist_radius_scale = 1.0;
-  double stiffness_scale = 1.0, time_constant_s = -1.0, r0_scale = 1.0, eps_max_shift = 0.0;
+  double stiffness_scale = 1.0, limit_stiffening_nm = 0.0, time_constant_s = -1.0, r0_scale = 1.0, eps_max_shift = 0.0;
   std::string imu_offset_deg;  // fe,ur
   double trajectory_s = 24.0;
   int repetitions = 3;
@@ -125,6 +125,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   for (auto& m : d.muscles) m.wrist_radius *= o.wrist_radius_scale;
   d.wrist.stiffness_fe *= o.stiffness_scale;
   d.wrist.stiffness_ur *= o.stiffness_scale;
+  d.wrist.limit_stiffening.torque += o.limit_stiffening_nm;
   if (o.time_constant_s > 0) d.regulator.time_constant = o.time_constant_s;
   std::vector<physics::FpamTableRow> rows = d.fpam.rows();
   for (auto& row : rows) {
@@ -358,6 +359,8 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
   synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
   synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
+  synth->add_option("--limit-stiffening-nm", s->limit_stiffening_nm,
+                    "Added to the relaxed wrist's stiffening torque at its limits [N m]");
   synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
   synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
   synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");

@@ -46,8 +46,11 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kPassiveWrist,
        "passive_wrist",
-       "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal",
-       {{"stiffness_scale", 0.1, 10.0, true, 1.0}, {"damping_scale", 0.1, 10.0, true, 1.0}},
+       "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal, and stiffens towards its "
+       "limits (physics/relaxed_wrist.h: added torque at each limit)",
+       {{"stiffness_scale", 0.1, 10.0, true, 1.0},
+        {"damping_scale", 0.1, 10.0, true, 1.0},
+        {"limit_stiffening_nm", 0.0, 6.0, false, 0.0}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},  // sweeps whose reading includes the relaxed wrist
       {EffectId::kImuBias,
        "imu_bias",
@@ -137,6 +140,7 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       device.wrist.stiffness_ur *= values[0];
       device.wrist.damping_fe *= values[1];
       device.wrist.damping_ur *= values[1];
+      device.wrist.limit_stiffening.torque += values[2];
       break;
     case EffectId::kHysteresis:
     case EffectId::kImuBias:

@@ -427,7 +427,7 @@ double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& w
     return torque - history * physics::muscle_state(muscle, direction * s.angle, 0.0).torque;
   const physics::WristAxis axis = physics::axis_of(s.muscle);
   double other = 0.0;  // [N m] towards flexion / ulnar deviation
-  if (c.torque.passive_wrist) other -= wrist.stiffness(axis) * s.angle;
+  if (c.torque.passive_wrist) other += wrist.passive(axis, s.angle);
   // The hand's weight about the axis it turns, m g c cos(angle), largest with the hand level (wrist_statics.h).
   if (c.torque.hand_weight && gravity_axis(c.posture) == axis) other += wrist.hand_weight_moment * std::cos(s.angle);
   return torque + direction * other;

@@ -11,13 +11,17 @@ double WristModel::limit(WristAxis axis, double direction) const {
   return direction > 0.0 ? ulnar_limit : radial_limit;
 }
 
+double WristModel::passive(WristAxis axis, double angle) const {
+  return relaxed_wrist_torque(stiffness(axis), limit_stiffening, limit(axis, 1.0), limit(axis, -1.0), angle);
+}
+
 AxisTorques axis_torques(const WristModel& wrist, WristAxis axis, double angle, double agonist_pressure,
                          double antagonist_pressure) {
   const PairTorque pair = pair_torque(wrist.muscles.pair(axis), angle, agonist_pressure, antagonist_pressure);
   AxisTorques t;
   t.agonist = pair.agonist.torque;
   t.antagonist = -pair.antagonist.torque;
-  t.passive = -wrist.stiffness(axis) * angle;
+  t.passive = wrist.passive(axis, angle);
   if (axis == WristAxis::kUlnarRadial) t.gravity = wrist.hand_weight_moment * std::cos(angle);
   return t;
 }

@@ -5,6 +5,7 @@
 // Angles follow antagonistic_pair.h: flexion and ulnar deviation positive.
 
 #include "physics/antagonistic_pair.h"
+#include "physics/relaxed_wrist.h"
 
 namespace softwrist::physics {
 
@@ -12,6 +13,7 @@ struct WristModel {
   WristMuscles muscles;
   double stiffness_fe = 0.0;  // relaxed wrist [N m/rad]
   double stiffness_ur = 0.0;
+  LimitStiffening limit_stiffening;  // the relaxed wrist stiffening towards the limits below (both axes)
   // m g c [N m]: the hand's weight about the ulnar/radial axis, pulling towards ulnar deviation with m g c cos(ur)
   // (the model's forearm lies with flexion/extension in the horizontal plane, so ulnar deviation lowers the hand);
   // 0 when a table carries the hand.
@@ -22,13 +24,15 @@ struct WristModel {
   double stiffness(WristAxis axis) const { return axis == WristAxis::kFlexionExtension ? stiffness_fe : stiffness_ur; }
   // The joint stop in direction +1 (flexion, ulnar) or -1 (extension, radial), as a positive angle [rad].
   double limit(WristAxis axis, double direction) const;
+  // The relaxed wrist's torque at `angle` [rad], positive towards flexion / ulnar deviation (relaxed_wrist.h).
+  double passive(WristAxis axis, double angle) const;
 };
 
 // The static torques about one axis at `angle` [rad], each positive towards flexion / ulnar deviation [N m].
 struct AxisTorques {
   double agonist = 0.0;     // flexor or ulnar muscle
   double antagonist = 0.0;  // extensor or radial muscle (<= 0)
-  double passive = 0.0;     // the relaxed wrist's stiffness
+  double passive = 0.0;     // the relaxed wrist (WristModel::passive)
   double gravity = 0.0;     // the hand's weight (ulnar/radial only)
   double net() const { return agonist + antagonist + passive + gravity; }
 };

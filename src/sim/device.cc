@@ -167,6 +167,15 @@ void read_wrist(Reader w, PassiveWrist& p) {
   p.extension_limit = units::deg_to_rad(w.positive("extension_limit_deg", units::rad_to_deg(p.extension_limit)));
   p.ulnar_limit = units::deg_to_rad(w.positive("ulnar_limit_deg", units::rad_to_deg(p.ulnar_limit)));
   p.radial_limit = units::deg_to_rad(w.positive("radial_limit_deg", units::rad_to_deg(p.radial_limit)));
+  p.limit_stiffening.torque = w.number("limit_stiffening_nm", p.limit_stiffening.torque);
+  // Bounds that keep the 1 ms explicit step of WristSim stable (sqrt((A/s)/I) dt < 0.3 for a hand of 0.003 kg m^2)
+  // and cover a relaxed wrist's passive torque at its limits (a few N m).
+  if (p.limit_stiffening.torque < 0.0 || p.limit_stiffening.torque > 20.0) {
+    w.fail("limit_stiffening_nm", fmt::format("must lie in [0, 20] N m, got {}", p.limit_stiffening.torque));
+  }
+  const double scale_deg = w.positive("limit_stiffening_scale_deg", units::rad_to_deg(p.limit_stiffening.angle_scale));
+  if (scale_deg < 4.0) w.fail("limit_stiffening_scale_deg", fmt::format("must be at least 4 deg, got {}", scale_deg));
+  p.limit_stiffening.angle_scale = units::deg_to_rad(scale_deg);
   w.finish();
 }
 
@@ -221,7 +230,7 @@ std::string device_to_json(const DeviceDescription& device) {
                                 {"L0_cm", m_to_cm(m.rest_length)},  {"rw_cm", m_to_cm(m.wrist_radius)}};
   }
   const auto& w = device.wrist;
-  const json root = {
+  json root = {
       {"format", kFormat},
       {"muscles", muscles},
       {"fpam", fpam_to_json(device.fpam)},
@@ -247,6 +256,10 @@ std::string device_to_json(const DeviceDescription& device) {
         {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
         {"length_cm", m_to_cm(device.hand.length)}}},
   };
+  if (w.limit_stiffening.torque > 0.0) {  // only where the wrist is not the paper's linear one
+    root["wrist"]["limit_stiffening_nm"] = w.limit_stiffening.torque;
+    root["wrist"]["limit_stiffening_scale_deg"] = units::rad_to_deg(w.limit_stiffening.angle_scale);
+  }
   return root.dump(2) + "\n";
 }
 

@@ -11,6 +11,7 @@
 
 #include "physics/exosuit_layout.h"
 #include "physics/muscle_torque.h"
+#include "physics/relaxed_wrist.h"
 #include "physics/units.h"
 
 namespace softwrist::sim {
@@ -42,6 +43,8 @@ struct PassiveWrist {
   double extension_limit = units::deg_to_rad(56.0);
   double ulnar_limit = units::deg_to_rad(39.1);
   double radial_limit = units::deg_to_rad(23.2);
+  // Stiffening towards those limits (physics/relaxed_wrist.h); none by default, the paper's wrist being linear.
+  physics::LimitStiffening limit_stiffening;
 };
 
 struct Hand {

@@ -98,7 +98,12 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
   const auto& h = device.hand;
   const double inertia = h.mass * h.radius_of_gyration * h.radius_of_gyration;
 
-  const auto [custom, forearm_items, hand_items, tendons, actuators] = muscle_items(device, options);
+  auto [custom, forearm_items, hand_items, tendons, actuators] = muscle_items(device, options);
+  // MuJoCo's joint stiffness is linear: the stiffening towards the limits is WristSim's, read from here.
+  if (w.limit_stiffening.torque > 0.0) {
+    custom += fmt::format("    <numeric name=\"{}\" size=\"2\" data=\"{:.10g} {:.10g}\"/>\n", kLimitStiffeningNumeric,
+                          w.limit_stiffening.torque, w.limit_stiffening.angle_scale);
+  }
 
   return fmt::format(
       R"(<mujoco model="softwrist">

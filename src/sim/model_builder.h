@@ -32,6 +32,10 @@ struct ModelOptions {
   physics::WristAxis gravity_axis = physics::WristAxis::kUlnarRadial;
 };
 
+// The relaxed wrist's stiffening towards its limits (PassiveWrist::limit_stiffening), when it has any: a custom
+// <numeric> "A s" ([N m], [rad]) that WristSim applies about both joints, towards their ranges' ends.
+inline constexpr const char* kLimitStiffeningNumeric = "softwrist.limit_stiffening";
+
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});
 
 }  // namespace softwrist::sim

@@ -5,6 +5,7 @@
 
 #include <array>
 
+#include "physics/relaxed_wrist.h"
 #include "sim/device.h"
 #include "sim/model.h"
 
@@ -41,10 +42,16 @@ class WristSim {
 
  private:
   void hold(double fe, double ur);
+  // Puts the relaxed wrist's stiffening towards the joint limits (model_builder.h) into qfrc_applied, at the state
+  // the next step starts from.
+  void apply_limit_stiffening();
+  void step();
   const Model& model_;
   Data data_;
   std::array<int, 2> qpos_address_{};  // FE, UR
   std::array<int, 2> dof_address_{};
+  physics::LimitStiffening limit_stiffening_;            // none unless the model carries kLimitStiffeningNumeric
+  std::array<std::array<double, 2>, 2> joint_limits_{};  // per joint: positive, negative limit [rad]
 };
 
 }  // namespace softwrist::sim

@@ -331,6 +331,19 @@ TEST_F(DiagnosisTest, SweepReachedFromBothSidesShowsHysteresis) {
   EXPECT_NEAR(param(fit_of(d, EffectId::kHysteresis), "fraction"), h, 0.01);
 }
 
+// A relaxed wrist that stiffens towards its limits (physics/relaxed_wrist.h, Riener & Edrich's double exponential)
+// holds each muscle's range of motion back and bends the trajectories near the limits. The whole catalogue names it
+// passive_wrist and recovers the stiffening, not a stiffer linear wrist.
+TEST_F(DiagnosisTest, RelaxedWristStiffeningTowardsItsLimitsIsPassiveWrist) {
+  sim::DeviceDescription real = paper_device();
+  real.wrist.limit_stiffening.torque = 2.0;
+  const Diagnosis d = run({.device = real}, paper_device());
+  ASSERT_EQ(d.verdict, "passive_wrist") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kPassiveWrist);
+  EXPECT_NEAR(param(f, "limit_stiffening_nm"), 2.0, 0.3);
+  EXPECT_NEAR(param(f, "stiffness_scale"), 1.0, 0.15);
+}
+
 TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
   const auto write = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
