@@ -24,14 +24,11 @@ $softwrist render --ur-deg 15 --pressures-kpa 0,0,137,20 --view palmar --out out
 $softwrist render --run out/main/planar_tracking --video out/main/planar_tracking/model_based_steps.mp4 --case 3 \
   --speed 4 --width 480 --height 360
 # A rehearsal of a hardware trial: the short planar steps through the bridge against the device emulator with a
-# real device's effects (experiments/emulator/realistic.json), beside the same experiment in simulation.
-$softwrist emulate experiments/emulator/realistic.json --link out/main/emulated_device --duration-s 300 \
-  > out/main/emulator.log &
-emulator=$!
-for _ in $(seq 100); do [ -e out/main/emulated_device ] && break; sleep 0.1; done
-$softwrist trial experiments/planar_rehearsal.json --device out/main/emulated_device --out out/main/rehearsal_trial \
-  --overwrite
-kill -TERM "$emulator" && wait "$emulator"
+# real device's effects (experiments/emulator/realistic.json), beside the same experiment in simulation. The
+# emulator and the host share one simulated clock (--emulator), so the result is the same however busy the machine
+# is; `softwrist emulate` + `trial --device` is the same rehearsal in real time over a pseudo-terminal.
+$softwrist trial experiments/planar_rehearsal.json --emulator experiments/emulator/realistic.json \
+  --out out/main/rehearsal_trial --overwrite
 $softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet --overwrite
 $softwrist report out/main/rehearsal_trial
 $softwrist report out/main/rehearsal_sim

@@ -10,6 +10,7 @@
 #include "bridge/bridge_plant.h"
 #include "bridge_apps/device_emulator.h"
 #include "bridge_apps/hardware_trial.h"
+#include "bridge_apps/lockstep_link.h"
 #include "bridge_apps/soak.h"
 #include "cli/arguments.h"
 #include "cli/stop_signals.h"
@@ -28,6 +29,7 @@ struct EmulateOptions {
 struct TrialCommandOptions {
   std::string config;
   std::string device;
+  std::string emulator;  // instead of a device: the emulator on one simulated clock
   std::string out;
   std::vector<std::string> controllers;
   int repetitions = 0;
@@ -81,18 +83,9 @@ void emulate(const EmulateOptions& options, std::ostream& out) {
   if (!s.stopped_by.empty()) throw std::runtime_error("device emulator: the simulated exosuit failed: " + s.stopped_by);
 }
 
-void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
-  if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
-  if (!(options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
-  if (!(options.max_kpa > 0.0 && options.max_kpa <= physics::kRegulatorMaxPressureKpa)) {
-    throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
-  }
-  const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
-  bridge::BridgeOptions bridge_options;
-  bridge_options.limits.max_dkpa = static_cast<int32_t>(options.max_kpa * 10.0);
-  if (options.timeout_ms < 1 || options.timeout_ms > 1000) throw UsageError("--timeout-ms must be 1..1000");
-  bridge_options.limits.timeout_ms = static_cast<std::uint32_t>(options.timeout_ms);
-  bridge::BridgePlant plant(bridge::SerialPort::Open(options.device, options.baud), bridge_options);
+// The trial on `plant`, reported as on `where` (the serial device, or the emulator's config).
+void run_trial_on(const TrialCommandOptions& options, const experiments::ExperimentConfig& config,
+                  bridge::BridgePlant& plant, const std::string& where, std::ostream& out, std::ostream& err) {
   StopSignals signals;
   const std::filesystem::path dir =
       options.out.empty() ? std::filesystem::path("trials") / config.name : std::filesystem::path(options.out);
@@ -105,7 +98,7 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
   trial_options.rest_s = options.rest_s;  // the subject holds the wrist at neutral meanwhile
   const bridge::TrialResult result = bridge::run_trial(config, plant, trial_options);
   out << fmt::format("{}: {} of {} runs on {}, log {}/trials.csv, bridge record {}/bridge.json{}\n", dir.string(),
-                     result.runs_completed, result.runs_planned, options.device, dir.string(), dir.string(),
+                     result.runs_completed, result.runs_planned, where, dir.string(), dir.string(),
                      result.runs_completed > 0 ? fmt::format(", summary {}/summary.json", dir.string()) : "");
   if (result.fault) {
     throw std::runtime_error(fmt::format(
@@ -113,6 +106,31 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
         "again with --out <another dir> (--controller and --repetitions choose them)",
         *result.fault, dir.string()));
   }
+}
+
+void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
+  if (!(options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
+  if (!(options.max_kpa > 0.0 && options.max_kpa <= physics::kRegulatorMaxPressureKpa)) {
+    throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
+  }
+  if (options.device.empty() == options.emulator.empty()) throw UsageError("give one of --device and --emulator");
+  const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
+  bridge::BridgeOptions bridge_options;
+  bridge_options.limits.max_dkpa = static_cast<int32_t>(options.max_kpa * 10.0);
+  if (options.timeout_ms < 1 || options.timeout_ms > 1000) throw UsageError("--timeout-ms must be 1..1000");
+  bridge_options.limits.timeout_ms = static_cast<std::uint32_t>(options.timeout_ms);
+  if (!options.emulator.empty()) {
+    // The lock-step rig (issue 27): the same firmware rules, bytes and host, on one simulated clock, so the
+    // rehearsal's result does not depend on how busy the machine is.
+    bridge::DeviceEmulator emulator(bridge::load_emulator_config(options.emulator));
+    bridge::LockstepLink rig(emulator, {.baud = options.baud});
+    bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
+    run_trial_on(options, config, plant, fmt::format("the emulator {} (simulated time)", options.emulator), out, err);
+    return;
+  }
+  bridge::BridgePlant plant(bridge::SerialPort::Open(options.device, options.baud), bridge_options);
+  run_trial_on(options, config, plant, options.device, out, err);
 }
 
 struct SoakCommandOptions {
@@ -176,8 +194,14 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("config", trial_options->config, "Tracking experiment config (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
-  trial_command->add_option("--device", trial_options->device, "Serial device: /dev/ttyACM0, or the emulator's link")
-      ->required();
+  auto* device_option =
+      trial_command->add_option("--device", trial_options->device, "Serial device: /dev/ttyACM0, or the emulator's link");
+  trial_command
+      ->add_option("--emulator", trial_options->emulator,
+                   "Instead of --device: the device emulator of this config (softwrist.emulator/1) and the host on "
+                   "one simulated clock, in this process (the same result on any machine, however busy)")
+      ->check(CLI::ExistingFile)
+      ->excludes(device_option);
   trial_command->add_option("--out", trial_options->out, "Trial directory; default trials/<config name>");
   trial_command->add_option("--controller", trial_options->controllers,
                             "Run only this controller (repeatable); default: every controller of the config");

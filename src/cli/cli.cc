@@ -43,7 +43,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   try {
     app.parse(static_cast<int>(argv.size()), argv.data());
   } catch (const CLI::ParseError& e) {
-    return app.exit(e, out, err);
+    // --help is a ParseError of code 0; every other (a missing, unknown or conflicting option) is a bad argument,
+    // exit code 2 as the README says, whatever CLI11's own number for it.
+    return app.exit(e, out, err) == 0 ? 0 : 2;
   } catch (const UsageError& e) {
     err << "error: " << e.what() << '\n';
     return 2;
