@@ -194,8 +194,8 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("config", trial_options->config, "Tracking experiment config (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
-  auto* device_option =
-      trial_command->add_option("--device", trial_options->device, "Serial device: /dev/ttyACM0, or the emulator's link");
+  auto* device_option = trial_command->add_option("--device", trial_options->device,
+                                                  "Serial device: /dev/ttyACM0, or the emulator's link");
   trial_command
       ->add_option("--emulator", trial_options->emulator,
                    "Instead of --device: the device emulator of this config (softwrist.emulator/1) and the host on "
