@@ -46,8 +46,9 @@ LocalizationEntry group_test(const PreparedTrial& trial, const std::vector<doubl
   const double k = static_cast<double>(groups.size());
   if (n == 0 || trial.noise <= 0.0) return e;
   e.residual = std::sqrt(weighted / n);
-  e.noise = trial.noise * std::sqrt(k / n);
-  e.p_value = f_test_p_value(weighted / (k * trial.noise * trial.noise), k, trial.noise_dof);
+  const double group_noise2 = trial.noise * trial.noise * trial.group_inflation;  // n x a group mean's variance
+  e.noise = std::sqrt(group_noise2 * k / n);
+  e.p_value = f_test_p_value(weighted / (k * group_noise2), k, trial.noise_dof);
   return e;
 }
 
@@ -101,7 +102,9 @@ void add_bands(const PreparedTrial& trial, const std::vector<double>& residuals,
       ++bins;
     }
     if (bins == 0) continue;
-    const double sigma2 = trial.noise * trial.noise;
+    // A wandering noise's power lies below the 1 s blocks' rate (group_inflation is measured there); above it the
+    // noise is taken as white.
+    const double sigma2 = trial.noise * trial.noise * (band.hi <= 1.0 ? trial.group_inflation : 1.0);
     const double nn = static_cast<double>(n);
     LocalizationEntry e{.experiment = trial.name,
                         .where = fmt::format("{} {}", channel_name(channel), band.name),

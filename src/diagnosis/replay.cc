@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "diagnosis/repeat_noise.h"
 #include "physics/fpam_force.h"
 #include "physics/units.h"
 #include "sim/model.h"
@@ -298,6 +299,16 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
     if (trial.kind == TrialKind::kTrajectory && trial.trajectory.front().measured_kpa) {
       prepared.push_back(prepare_trajectory(trial, true));
     }
+  }
+  // Repeated trajectories: their noise from the spread across repetitions (the nominal replays are cached for the
+  // diagnosis that follows).
+  const auto sets = repeat_sets(prepared);
+  if (!sets.empty()) {
+    std::vector<std::vector<double>> residuals(prepared.size());
+    for (const auto& set : sets) {
+      for (std::size_t t : set) residuals[t] = residuals_of(prepared[t], engine.predict(prepared[t], nominal, false));
+    }
+    apply_repeat_noise(prepared, residuals);
   }
   return prepared;
 }

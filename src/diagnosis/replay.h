@@ -56,9 +56,12 @@ struct PreparedTrial {
   // its own unit and noise. The pressures tell a regulator's lag from an IMU's latency, which delay the angles alike.
   bool pressures = false;
   std::vector<Point> points;
-  std::string unit;             // of measured and residuals
-  double noise = 0.0;           // repeat-to-repeat standard deviation of one measurement, in `unit`
-  int noise_dof = 0;            // its degrees of freedom
+  std::string unit;    // of measured and residuals
+  double noise = 0.0;  // repeat-to-repeat standard deviation of one measurement, in `unit`
+  int noise_dof = 0;   // its degrees of freedom
+  // The variance of a repeat group's mean residual is noise^2 * group_inflation / n: 1 for white noise, more for a
+  // noise that wanders (trajectories with repetitions, repeat_noise.h).
+  double group_inflation = 1.0;
   std::string noise_source;     // how it was estimated
   double training_end_s = 0.0;  // trajectories: the training part ends here
 };

@@ -1,0 +1,34 @@
+#pragma once
+// A trajectory's noise from its repetitions. Within one trial only the noise that changes faster than the motion
+// can be told from the motion (replay.cc: the spread about a quadratic in 0.35 s windows), and real angle sensors
+// wander slower than that: a fusion filter's correlated error, a gyro bias that drifts, a subject who rests a
+// little differently each time (issue 20: the independent device's repeat-to-repeat spread is 5-18 times the
+// windowed estimate). Repeated trials of one task show that noise whole: the model's error is common to the
+// repetitions (each replayed with its own commands), the noise is not, so the spread of the nominal residuals
+// across repetitions at each instant is the noise at every frequency, and the spread of their 1 s block means is
+// what a block's mean residual carries (the group test's denominator; white noise would give noise^2 / n).
+//
+// Repetitions: trajectory trials of one rig and posture whose logged commands follow each other (their RMS
+// difference is under kRepeatCommandSimilarity of their own spread about their mean), alike in length. A trial
+// without repetitions keeps its windowed estimate and white-noise group test.
+
+#include <vector>
+
+#include "diagnosis/replay.h"
+
+namespace softwrist::diagnosis {
+
+// [1] commands whose RMS difference is under this fraction of their spread are the same task repeated (repetitions
+// of a closed-loop task differ by 2-15 % on the independent device; different tasks by far more).
+inline constexpr double kRepeatCommandSimilarity = 0.3;
+
+// Sets of indices into `trials` (angles with angles, pressures with pressures) that repeat one task, each of two or
+// more trials.
+std::vector<std::vector<std::size_t>> repeat_sets(const std::vector<PreparedTrial>& trials);
+
+// Raises the noise of each trial in a repeat set to the repeat-to-repeat spread of its nominal residuals
+// (`residuals[t]` aligned with trials[t].points) where that is larger, and sets its group variance inflation and
+// degrees of freedom from the spread of the 1 s block means.
+void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals);
+
+}  // namespace softwrist::diagnosis
