@@ -16,7 +16,8 @@ double command_difference(const Trial& a, const Trial& b) {
   const std::size_t n = std::min(a.trajectory.size(), b.trajectory.size());
   double ss = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t m = 0; m < 4; ++m) ss += std::pow(a.trajectory[i].command_kpa[m] - b.trajectory[i].command_kpa[m], 2);
+    for (std::size_t m = 0; m < 4; ++m)
+      ss += std::pow(a.trajectory[i].command_kpa[m] - b.trajectory[i].command_kpa[m], 2);
   }
   return n == 0 ? INFINITY : std::sqrt(ss / static_cast<double>(n));
 }
@@ -130,9 +131,10 @@ void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<st
       PreparedTrial& p = trials[t];
       const double noise = std::sqrt(s.noise2);
       if (noise > p.noise) {
-        p.noise_source = fmt::format("spread of the nominal residuals across {} repetitions of the task (the "
-                                     "windowed estimate, {:.3g} {}, misses the noise slower than the motion)",
-                                     set.size(), p.noise, p.unit);
+        p.noise_source = fmt::format(
+            "spread of the nominal residuals across {} repetitions of the task (the "
+            "windowed estimate, {:.3g} {}, misses the noise slower than the motion)",
+            set.size(), p.noise, p.unit);
         p.noise = noise;
       }
       // A block mean of white noise has noise^2 / n; a sensor's wander leaves far more.

@@ -17,7 +17,7 @@
 namespace softwrist::diagnosis {
 namespace {
 
-constexpr double kDt = 0.014, kLength = 12.0;  // the paper's loop, a 12 s trial
+constexpr double kDt = 0.014, kLength = 12.0;   // the paper's loop, a 12 s trial
 constexpr double kWander = 0.3, kOffset = 0.3;  // [deg] the Gauss-Markov noise's and the per-trial offset's s.d.
 
 // A trajectory trial whose commands follow a 24 s sine (`phase_kpa` shifts them: another task when large).
@@ -40,8 +40,8 @@ PreparedTrial prepared(const Trial& trial) {
   PreparedTrial p{.trial = &trial, .name = trial.name, .unit = "deg", .noise = 0.04};
   for (int c = 0; c < 2; ++c) {
     for (const auto& s : trial.trajectory) {
-      p.points.push_back(Point{.group = c * 1000000 + static_cast<int>(s.t), .unit = static_cast<int>(s.t / 4.0),
-                               .channel = c, .t_s = s.t});
+      p.points.push_back(Point{
+          .group = c * 1000000 + static_cast<int>(s.t), .unit = static_cast<int>(s.t / 4.0), .channel = c, .t_s = s.t});
     }
   }
   p.noise_dof = static_cast<int>(p.points.size());
