@@ -231,6 +231,16 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
     d.verdict = d.leading_effect;
     d.reason = fmt::format("{} explains {:.0f} % of the held-out gap on its own ({:.0f} % with the combination); {}",
                            d.leading_effect, 100.0 * d.explained_fraction, 100.0 * d.gap_closed(), remaining_gaps(d));
+  } else if (d.combination.size() >= 2 && d.gap_closed() >= options.explained_fraction &&
+             d.explained_fraction >= options.pair_share) {
+    d.verdict = d.leading_effect;
+    std::vector<std::string> others;
+    for (std::size_t i = 1; i < d.combination.size(); ++i) others.push_back(d.combination[i].name);
+    d.also_effects = others;
+    d.reason = fmt::format(
+        "{} and {} together explain {:.0f} % of the held-out gap; {} alone explains {:.0f} %, the largest share; {}",
+        d.leading_effect, fmt::join(others, " and "), 100.0 * d.gap_closed(), d.leading_effect,
+        100.0 * d.explained_fraction, remaining_gaps(d));
   } else {
     d.verdict = "unexplained";
     d.reason = d.combination.empty()

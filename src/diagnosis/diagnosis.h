@@ -40,6 +40,11 @@ struct DiagnosisOptions {
   // seeds 1-5: single catalogue effects closed 0.63 to 0.99 of their gap, friction at the wrap (outside the
   // catalogue) 0.46 to 0.58; 0.6 lies between.
   double explained_fraction = 0.6;
+  // A device has several unmodelled effects at once. When no effect closes explained_fraction alone but the
+  // combination does, the verdict names the combination's leading effect if that alone closes at least this much,
+  // and reports the others (Diagnosis::also_effects): the larger named, the second reported (issue 20). Below it the
+  // combination is a patchwork of small fits and the verdict stays "unexplained".
+  double pair_share = 0.3;
   // A trial's gap is within noise, however significant, while its systematic residual (in noise units, over all its
   // measurements) stays below this: a large data set detects systematic errors far smaller than its noise, such as a
   // 0.03 deg offset of a trajectory, which no user would call a gap. Tested per trial, so that clean trials of other
@@ -96,6 +101,8 @@ struct Diagnosis {
   // the gap trials of the kinds it acts on: what the verdict weighs.
   std::string leading_effect;
   double explained_fraction = 0.0;
+  // When the verdict names the leading effect of a combination that closes the gap only together: the others.
+  std::vector<std::string> also_effects;
   std::vector<TrialGap> trials;
   std::vector<LocalizationEntry> localization;
   std::vector<FileProblem> problems;

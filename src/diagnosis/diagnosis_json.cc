@@ -38,6 +38,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["remaining_gap_significant"] = d.remaining_gap_significant;
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
+  j["also_effects"] = d.also_effects;
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
   j["combination"] = nlohmann::json::array();

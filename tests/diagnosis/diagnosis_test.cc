@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -342,6 +343,22 @@ TEST_F(DiagnosisTest, RelaxedWristStiffeningTowardsItsLimitsIsPassiveWrist) {
   const EffectFit& f = fit_of(d, EffectId::kPassiveWrist);
   EXPECT_NEAR(param(f, "limit_stiffening_nm"), 2.0, 0.3);
   EXPECT_NEAR(param(f, "stiffness_scale"), 1.0, 0.15);
+}
+
+// Two effects at once (issue 20: the verdict names the larger and reports the second): fabric 5 % wider than the
+// paper's and a relaxed wrist that stiffens towards its limits. Whether one alone closes 60 % of the gap or only the
+// two together do, the verdict and also_effects name exactly these two.
+TEST_F(DiagnosisTest, TwoEffectsAtOnceAreBothNamed) {
+  sim::DeviceDescription real = paper_device();
+  std::vector<physics::FpamTableRow> rows = real.fpam.rows();
+  for (auto& row : rows) row.radius *= 1.05;
+  real.fpam = physics::FpamParameters::Table(rows, real.fpam.fabric());
+  real.wrist.limit_stiffening.torque = 2.0;
+  const Diagnosis d = run({.device = real}, paper_device());
+  std::set<std::string> named(d.also_effects.begin(), d.also_effects.end());
+  named.insert(d.verdict);
+  if (d.also_effects.empty() && d.combination.size() >= 2) named.insert(d.combination[1].name);
+  EXPECT_EQ(named, (std::set<std::string>{"fpam_params", "passive_wrist"})) << d.reason;
 }
 
 TEST_F(DiagnosisTest, ImportChecksUnitsAndCells) {
