@@ -52,10 +52,10 @@ bool same_task(const PreparedTrial& a, const PreparedTrial& b) {
 std::size_t rows_of(const PreparedTrial& p) { return p.trial->trajectory.size(); }
 
 struct RepeatSpread {
-  double noise2 = 0.0;        // per-sample noise variance
-  double block_mean2 = 0.0;   // variance of a 1 s block's mean
-  double block_size = 0.0;    // mean samples per block
-  int blocks = 0, units = 0;  // distinct blocks and 4 s units of one trial
+  double noise2 = 0.0;       // per-sample noise variance
+  double block_mean2 = 0.0;  // variance of a 1 s block's mean
+  double block_size = 0.0;   // mean samples per block
+  int units = 0;             // distinct 4 s units of one trial
 };
 
 RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals,
@@ -68,7 +68,7 @@ RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vect
   double ss = 0.0;
   long count = 0;
   std::map<std::pair<std::size_t, int>, std::pair<double, int>> blocks;  // (trial, group) -> sum, n of deviations
-  std::set<int> groups, units;
+  std::set<int> units;
   for (int c = 0; c < channels; ++c) {
     for (std::size_t i = 0; i < rows; ++i) {
       double mean = 0.0;
@@ -80,10 +80,7 @@ RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vect
         auto& b = blocks[{t, trials[t].points[at].group}];
         b.first += d;
         ++b.second;
-        if (t == set.front()) {
-          groups.insert(trials[t].points[at].group);
-          units.insert(trials[t].points[at].unit);
-        }
+        if (t == set.front()) units.insert(trials[t].points[at].unit);
       }
       ++count;
     }
@@ -99,7 +96,6 @@ RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vect
   }
   s.block_mean2 = bm / static_cast<double>(blocks.size()) * k / (k - 1.0);
   s.block_size = n / static_cast<double>(blocks.size());
-  s.blocks = static_cast<int>(groups.size());
   s.units = static_cast<int>(units.size());
   return s;
 }
@@ -123,8 +119,9 @@ std::vector<std::vector<std::size_t>> repeat_sets(const std::vector<PreparedTria
   return sets;
 }
 
-void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals) {
-  for (const auto& set : repeat_sets(trials)) {
+void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<std::size_t>>& sets,
+                        const std::vector<std::vector<double>>& residuals) {
+  for (const auto& set : sets) {
     const RepeatSpread s = spread_of(trials, residuals, set);
     if (!(s.noise2 > 0.0)) continue;
     for (std::size_t t : set) {

@@ -26,9 +26,10 @@ inline constexpr double kRepeatCommandSimilarity = 0.3;
 // more trials.
 std::vector<std::vector<std::size_t>> repeat_sets(const std::vector<PreparedTrial>& trials);
 
-// Raises the noise of each trial in a repeat set to the repeat-to-repeat spread of its nominal residuals
-// (`residuals[t]` aligned with trials[t].points) where that is larger, and sets its group variance inflation and
-// degrees of freedom from the spread of the 1 s block means.
-void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals);
+// Raises the noise of each trial in each of `sets` (repeat_sets) to the repeat-to-repeat spread of its nominal
+// residuals (`residuals[t]` aligned with trials[t].points; needed only for the sets' trials) where that is larger,
+// and sets its group variance inflation and degrees of freedom from the spread of the 1 s block means.
+void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<std::size_t>>& sets,
+                        const std::vector<std::vector<double>>& residuals);
 
 }  // namespace softwrist::diagnosis

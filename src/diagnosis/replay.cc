@@ -308,7 +308,7 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
     for (const auto& set : sets) {
       for (std::size_t t : set) residuals[t] = residuals_of(prepared[t], engine.predict(prepared[t], nominal, false));
     }
-    apply_repeat_noise(prepared, residuals);
+    apply_repeat_noise(prepared, sets, residuals);
   }
   return prepared;
 }

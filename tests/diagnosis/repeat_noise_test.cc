@@ -99,7 +99,7 @@ TEST(RepeatNoise, RepetitionsAreTheTrialsWhoseCommandsFollowEachOther) {
 TEST(RepeatNoise, TheSpreadAcrossRepetitionsIsTheWholeNoise) {
   std::mt19937_64 rng(5);
   Repetitions set = repetitions(rng, 4, 0.5);  // the systematic part is common: it must not count as noise
-  apply_repeat_noise(set.prepared, set.residuals);
+  apply_repeat_noise(set.prepared, repeat_sets(set.prepared), set.residuals);
   const double whole = std::hypot(kWander, kOffset);
   for (int t = 0; t < 4; ++t) {
     EXPECT_NEAR(set.prepared[t].noise, whole, 0.3 * whole) << t;
@@ -121,11 +121,11 @@ TEST(RepeatNoise, ACorrectModelIsNotCalledWrongAndAWrongOneStillIs) {
   for (int s = 0; s < kSets; ++s) {
     Repetitions null_set = repetitions(rng, 4, 0.0);
     for (int t = 0; t < 4; ++t) white_alarms += whole_trial_p(null_set.prepared[t], null_set.residuals[t]) < kAlpha;
-    apply_repeat_noise(null_set.prepared, null_set.residuals);
+    apply_repeat_noise(null_set.prepared, repeat_sets(null_set.prepared), null_set.residuals);
     for (int t = 0; t < 4; ++t) repeat_alarms += whole_trial_p(null_set.prepared[t], null_set.residuals[t]) < kAlpha;
     tests += 4;
     Repetitions gap_set = repetitions(rng, 4, kGap * std::hypot(kWander, kOffset));
-    apply_repeat_noise(gap_set.prepared, gap_set.residuals);
+    apply_repeat_noise(gap_set.prepared, repeat_sets(gap_set.prepared), gap_set.residuals);
     found += whole_trial_p(gap_set.prepared[0], gap_set.residuals[0]) < kAlpha;
   }
   RecordProperty("white_false_alarm_rate", std::to_string(double(white_alarms) / tests));
