@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "cli/arguments.h"
+#include "cli/independent_bench_command.h"
 #include "diagnosis/benchmark.h"
 #include "diagnosis/csv_import.h"
 #include "diagnosis/diagnosis.h"
@@ -30,6 +31,8 @@ struct DiagnoseOptions {
   int jobs = 2;
   int bootstrap = 200;
   bool no_plots = false;
+  std::string tolerances;  // a tolerance file
+  bool no_tolerances = false;
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -45,6 +48,9 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
     }
     options.effects.push_back(*id);
   }
+  if (o.no_tolerances && !o.tolerances.empty()) throw UsageError("--tolerances and --no-tolerances exclude each other");
+  if (o.no_tolerances) options.tolerances = diagnosis::Tolerances::none();
+  if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
   diagnosis::RealData data = diagnosis::load_real_data(o.real);
@@ -197,7 +203,9 @@ void run_diagnose_bench(const DiagnoseBenchOptions& o, std::ostream& out) {
 }
 
 struct DiagnoseBenchmarkOptions {
-  int seeds = 5;
+  std::string generator = "catalogue";
+  IndependentBenchArguments independent;  // --generator independent
+  int seeds = 0;                          // 0: the generator's default (catalogue 5, independent 20)
   std::uint64_t first_seed = 1;
   int jobs = 2;
   std::vector<std::string> cases;
@@ -210,7 +218,7 @@ struct DiagnoseBenchmarkOptions {
 std::string percent(double v) { return std::isfinite(v) ? fmt::format("{:.1f} %", 100.0 * v) : "-"; }
 
 // The withheld-effect benchmark (diagnosis/benchmark.h) on the paper's device.
-void run_diagnose_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& out, std::ostream& err) {
+void run_catalogue_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& out, std::ostream& err) {
   if (o.seeds < 1 || o.seeds > 1000) throw UsageError("--seeds must be within 1..1000");
   if (o.jobs < 1) throw UsageError("--jobs must be >= 1");
   if (o.trajectory_s < 4 || o.trajectory_s > 600) throw UsageError("--trajectory-s must be within 4..600");
@@ -285,6 +293,34 @@ void run_diagnose_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& out
   out << fmt::format("{} diagnoses in {:.1f} s\n", result.runs.size() + (result.paper_case ? 1 : 0), result.wall_s);
 }
 
+// The shared options go to the generator chosen; the independent generator's own options are refused with the
+// catalogue's and the catalogue's (--variation) with the independent one.
+void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command, std::ostream& out, std::ostream& err) {
+  const bool independent = o.generator == "independent";
+  if (!independent && o.generator != "catalogue")
+    throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
+  for (const char* only :
+       {"--shard", "--out", "--merge", "--forms", "--no-pairs", "--min-level", "--torque-rig", "--prototype"}) {
+    if (!independent && command.count(only) > 0)
+      throw UsageError(fmt::format("{} needs --generator independent", only));
+  }
+  if (independent && command.count("--variation") > 0) throw UsageError("--variation is the catalogue generator's");
+  if (independent && command.count("--cases") > 0) throw UsageError("--cases is the catalogue's; use --forms");
+  if (!independent) {
+    if (o.seeds == 0) o.seeds = 5;
+    run_catalogue_benchmark(o, out, err);
+    return;
+  }
+  IndependentBenchArguments& a = o.independent;
+  if (o.seeds != 0) a.seeds = o.seeds;
+  a.first_seed = o.first_seed;
+  a.jobs = o.jobs;
+  if (command.count("--trajectory-s") > 0) a.trajectory_s = o.trajectory_s;
+  a.keep = o.keep;
+  a.json = o.json;
+  run_independent_bench(a, out, err);
+}
+
 }  // namespace
 
 void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
@@ -327,6 +363,48 @@ void add_import_command(CLI::App& app, std::ostream& out) {
 });
 }  // namespace softwrist::cli
 
+namespace {
+
+// softwrist diagnose-bench: the withheld-effect benchmark, on either generator.
+void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& err) {
+  auto b = std::make_shared<DiagnoseBenchmarkOptions>();
+  auto* bench = app.add_subcommand(
+      "diagnose-bench",
+      "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
+      "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
+  bench->add_option(
+      "--generator", b->generator,
+      "catalogue (softwrist's own synthetic device, the default) or independent (src/independent_device)");
+  bench->add_option("--seeds", b->seeds, "Data sets per case (default 5; independent: 20)");
+  bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
+  bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
+  bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
+  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
+  bench->add_option("--variation", b->variation,
+                    "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
+  bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
+  bench->add_flag("--json", b->json,
+                  "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
+                  "confusion, runs, paper_case, wall_s}");
+  bench->add_option("--forms", b->independent.forms, "independent: only these forms (default every form)")
+      ->delimiter(',');
+  bench->add_flag(
+      "--no-pairs", [b](std::int64_t) { b->independent.pairs = false; },
+      "independent: without the pairs of two effects");
+  bench->add_option("--min-level", b->independent.min_level,
+                    "independent: each effect's level is drawn log-uniform in [this, 1] (default 0.2)");
+  bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
+  bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
+  bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
+  bench->add_option("--torque-rig", b->independent.torque_rig,
+                    "independent: the torque rig's placement (default experiments/independent_device/torque_rig.json)");
+  bench->add_option("--prototype", b->independent.prototype,
+                    "independent: the prototype's placement (default experiments/independent_device/prototype.json)");
+  bench->callback([b, bench, &out, &err] { run_diagnose_benchmark(*b, *bench, out, err); });
+}
+
+}  // namespace
+
 void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto d = std::make_shared<DiagnoseOptions>();
   auto* diagnose = app.add_subcommand(
@@ -339,6 +417,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_option("--effects", d->effects, "Only these catalogue effects (default all)")->delimiter(',');
   diagnose->add_option("--jobs", d->jobs, "Effects fitted in parallel (default 2)");
   diagnose->add_option("--bootstrap", d->bootstrap, "Bootstrap resamples of the held-out units (default 200)");
+  diagnose->add_option("--tolerances", d->tolerances,
+                       "JSON file: how well the nominal placement is known (docs/diagnosis.md, Tolerances)");
+  diagnose->add_flag("--no-tolerances", d->no_tolerances, "Measure the gap from the nominal exactly as placed");
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 
@@ -371,23 +452,7 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
                   "The trajectory without the regulators' measured pressures (p_<muscle>_kpa)");
   synth->callback([s, &out] { run_synthesize(*s, out); });
 
-  auto b = std::make_shared<DiagnoseBenchmarkOptions>();
-  auto* bench = app.add_subcommand(
-      "diagnose-bench",
-      "The diagnosis judged on data whose cause it is not told: each catalogue effect, none, and one "
-      "outside the catalogue, injected at random magnitudes (docs/diagnosis.md)");
-  bench->add_option("--seeds", b->seeds, "Data sets per case (default 5)");
-  bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
-  bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
-  bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
-  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
-  bench->add_option("--variation", b->variation,
-                    "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
-  bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
-  bench->add_flag("--json", b->json,
-                  "Print {top1_accuracy, mean_shrink_fraction, none_correct_rate, unexplained_correct_rate, "
-                  "confusion, runs, paper_case, wall_s}");
-  bench->callback([b, &out, &err] { run_diagnose_benchmark(*b, out, err); });
-}  // namespace softwrist::cli
+  add_diagnose_bench_command(app, out, err);
+}
 
 }  // namespace softwrist::cli

@@ -63,6 +63,13 @@ double excess_over_noise(const std::vector<double>& r, double noise) {
   return std::sqrt(std::max(0.0, in_noise_units * in_noise_units - 1.0));
 }
 
+std::vector<std::vector<double>> residuals_of_all(const std::vector<PreparedTrial>& prepared,
+                                                  const Predictions& predictions) {
+  std::vector<std::vector<double>> residuals;
+  for (std::size_t t = 0; t < prepared.size(); ++t) residuals.push_back(residuals_of(prepared[t], predictions[t]));
+  return residuals;
+}
+
 // A trial's whole gap test (localization's "all").
 LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<double>& residuals) {
   std::vector<std::size_t> all(residuals.size());
@@ -92,6 +99,27 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
     gaps.push_back(gap);
   }
   return gaps;
+}
+
+// The nominal within its tolerances (tolerance.h), fitted where some trial has a gap from the nominal as placed: a
+// trial whose gap the nominal closes anywhere within its tolerances has none (the nominal as placed is within them
+// too, so a trial keeps its gap only if it differs from both).
+void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const ModelVariant& as_placed, double trial_alpha,
+                             const DiagnosisOptions& options) {
+  d.tolerance = {.tolerances = options.tolerances};
+  d.tolerance.heldout_error_as_placed = d.tolerance.heldout_error_within = d.heldout_nominal;
+  if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; })) return;
+  d.tolerance = fit_within_tolerances(problem, as_placed, options);
+  if (d.tolerance.params.empty()) return;
+  const Predictions within_full = problem.evaluate(*d.tolerance.variant, false);
+  d.tolerance.heldout_error_as_placed = d.heldout_nominal;
+  d.tolerance.heldout_error_within = problem.heldout_error(problem.heldout_sums(within_full));
+  const std::vector<TrialGap> within =
+      nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, within_full), trial_alpha, options.min_gap);
+  for (std::size_t t = 0; t < d.trials.size(); ++t) {
+    d.trials[t].excess_within_tolerance = within[t].excess_nominal;
+    d.trials[t].gap = d.trials[t].gap && within[t].gap;
+  }
 }
 
 // Each effect alone on the nominal model, best first (applicable ones before the others).
@@ -167,7 +195,8 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
 // add their noise floor, which no effect removes), and each trial's remaining residual and its test.
 void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictions& nominal_full,
                         const Predictions& corrected_full, double trial_alpha) {
-  d.heldout_corrected = problem.heldout_error(problem.heldout_sums(corrected_full));
+  const std::vector<bool> all(problem.size(), true);
+  d.heldout_corrected = problem.heldout_error(problem.heldout_sums(corrected_full), nullptr, &all);
   std::vector<bool> gap_trials;
   for (const auto& t : d.trials) gap_trials.push_back(t.gap);
   d.gap_nominal = problem.heldout_error(problem.heldout_sums(nominal_full), nullptr, &gap_trials);
@@ -210,6 +239,14 @@ std::string remaining_gaps(const Diagnosis& d) {
   return fmt::format("a significant gap remains in {}", fmt::join(names, ", "));
 }
 
+// What the nominal took within its tolerances, for a reason: " (the nominal within its tolerances: a=1, b=2)".
+std::string tolerance_note(const Diagnosis& d) {
+  if (d.tolerance.params.empty()) return "";
+  std::vector<std::string> values;
+  for (const auto& [name, value] : d.tolerance.params) values.push_back(fmt::format("{}={:.4g}", name, value));
+  return fmt::format(" (the nominal within its tolerances: {})", fmt::join(values, ", "));
+}
+
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   const bool any_significant =
       std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
@@ -221,6 +258,13 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
     d.reason = fmt::format(
         "no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, alpha {} over {} trials)",
         options.alpha, d.prepared.size());
+  } else if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; }) &&
+             !d.tolerance.params.empty()) {
+    d.verdict = "none";
+    d.reason = fmt::format(
+        "the nominal within its tolerances explains every trial that differs from it as placed{}: the largest gap as "
+        "placed, {:.2f} noise units ({}), is {:.2f} within them",
+        tolerance_note(d), largest->excess_nominal, largest->experiment, largest->excess_within_tolerance);
   } else if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; })) {
     d.verdict = "none";
     d.reason = fmt::format(
@@ -257,24 +301,29 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   Diagnosis d;
   d.data = std::move(data);
   d.problems = d.data.problems;
-  ModelVariant nominal{.device = nominal_device};
-  prepare_trials(d, engine, nominal);
+  ModelVariant as_placed{.device = nominal_device};
+  prepare_trials(d, engine, as_placed);
   GapProblem problem(d.prepared, engine);
 
-  // Replay with the nominal model; localise; test each trial's gap.
+  // Replay with the nominal model as placed; localise; test each trial's gap.
+  const double trial_alpha = options.alpha / static_cast<double>(problem.size());
+  const ModelVariant& nominal = as_placed;
   const Predictions nominal_full = problem.evaluate(nominal, false);
   const Predictions nominal_training = problem.evaluate(nominal, true);
   d.nominal_predictions = nominal_full;
-  std::vector<std::vector<double>> residuals;
-  for (std::size_t t = 0; t < problem.size(); ++t) residuals.push_back(residuals_of(d.prepared[t], nominal_full[t]));
+  const std::vector<std::vector<double>> residuals = residuals_of_all(d.prepared, nominal_full);
   d.localization = localize(d.prepared, residuals, nominal_device, options.alpha);
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full));
-  const double trial_alpha = options.alpha / static_cast<double>(problem.size());
   d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha, options.min_gap);
+  check_within_tolerances(d, problem, nominal, trial_alpha, options);
 
-  // Attribute: each effect alone, then the greedy combination; measure the corrected model; decide.
-  d.effects = fit_each_effect(problem, {.variant = nominal, .training = nominal_training, .full = nominal_full},
-                              nominal_device, options);
+  // Attribute: each effect alone, then the greedy combination, scored over the trials with a gap beyond the
+  // tolerances (a gap the nominal explains within them is no effect's to close); measure the corrected model; decide.
+  std::vector<bool> gap_trials;
+  for (const auto& t : d.trials) gap_trials.push_back(t.gap);
+  if (std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; })) problem.set_scored(gap_trials);
+  const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
+  d.effects = fit_each_effect(problem, reference, nominal_device, options);
   Combination combination =
       combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);
   d.combination = std::move(combination.effects);

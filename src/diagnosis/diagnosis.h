@@ -21,6 +21,7 @@
 #include "diagnosis/localization.h"
 #include "diagnosis/real_data.h"
 #include "diagnosis/replay.h"
+#include "diagnosis/tolerance.h"
 
 namespace softwrist::diagnosis {
 
@@ -51,6 +52,22 @@ struct DiagnosisOptions {
   // kinds do not average a clear gap away.
   double min_gap = 1.0;
   int max_combined = 3;
+  // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
+  // leaves one, so that a device differing from its placement file only within its tolerances is `none`.
+  Tolerances tolerances;
+  int tolerance_evaluations = 80;  // the tolerance fit's budget (one search over every free parameter at once)
+};
+
+// The nominal within its tolerances: the values the free parameters took inside their boxes, and the model they give,
+// which decides with the nominal as placed which trials have a gap.
+struct ToleranceFit {
+  Tolerances tolerances;                               // as given
+  std::vector<std::pair<std::string, double>> params;  // the free ones: "fpam_params.r0_scale" -> value
+  std::vector<std::string> at_bound;  // free parameters fitted at an edge of their box: possibly beyond tolerance
+  double train_error_before = 0.0, train_error_after = 0.0;
+  double heldout_error_as_placed = 0.0, heldout_error_within = 0.0;  // held out, the nominal as placed and fitted
+  int evaluations = 0;
+  std::optional<ModelVariant> variant;  // set by the fit (the nominal itself when nothing is free)
 };
 
 // How an effect did: its fitted parameters, the held-out error before (nominal, or the combination it was added to)
@@ -76,11 +93,13 @@ struct TrialGap {
   double noise = 0.0;
   std::string noise_source;
   double rms_nominal = 0.0, rms_corrected = 0.0;  // all its measurements
-  // Its systematic residual in noise units over all its measurements, sqrt(max(0, mean (r/sigma)^2 - 1)).
-  double excess_nominal = 0.0, excess_corrected = 0.0;
+  // Its systematic residual in noise units over all its measurements, sqrt(max(0, mean (r/sigma)^2 - 1)), with the
+  // nominal as placed, the corrected model, and the nominal within its tolerances (where they were fitted).
+  double excess_nominal = 0.0, excess_corrected = 0.0, excess_within_tolerance = 0.0;
   double p_value = 1.0;  // of its nominal residual being noise alone (localization's "all")
   bool significant = false;
-  // Significant and at least min_gap noise units: a gap of its own, however clean the other trials are.
+  // Significant and at least min_gap noise units: a gap of its own, however clean the other trials are; and so with
+  // the nominal within its tolerances too, where they were fitted.
   bool gap = false;
   bool remaining_significant = false;  // with the corrected model
   std::size_t points = 0;
@@ -104,6 +123,7 @@ struct Diagnosis {
   // When the verdict names the leading effect of a combination that closes the gap only together: the others.
   std::vector<std::string> also_effects;
   std::vector<TrialGap> trials;
+  ToleranceFit tolerance;  // the nominal within its tolerances: what decides which trials have a gap
   std::vector<LocalizationEntry> localization;
   std::vector<FileProblem> problems;
   RealData data;  // the trials diagnosed (prepared points refer to them)

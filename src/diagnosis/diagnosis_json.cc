@@ -6,6 +6,24 @@
 // trial's gap.
 namespace softwrist::diagnosis {
 
+namespace {
+
+// The nominal within its tolerances: the tolerances given, what was fitted within them, and the held-out errors.
+nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
+  nlohmann::json fitted = nlohmann::json::object();
+  for (const auto& [name, value] : tolerance.params) fitted[name] = value;
+  return {{"tolerances", to_json(tolerance.tolerances)},
+          {"fitted", fitted},
+          {"at_bound", tolerance.at_bound},
+          {"heldout_error_as_placed", tolerance.heldout_error_as_placed},
+          {"heldout_error_within", tolerance.heldout_error_within},
+          {"train_error_before", tolerance.train_error_before},
+          {"train_error_after", tolerance.train_error_after},
+          {"evaluations", tolerance.evaluations}};
+}
+
+}  // namespace
+
 nlohmann::json to_json(const Diagnosis& d) {
   const auto effect_json = [](const EffectFit& f) {
     nlohmann::json params = nlohmann::json::object();
@@ -39,6 +57,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
   j["also_effects"] = d.also_effects;
+  j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
   j["combination"] = nlohmann::json::array();
@@ -68,6 +87,7 @@ nlohmann::json to_json(const Diagnosis& d) {
                            {"significant", t.significant},
                            {"excess_nominal", t.excess_nominal},
                            {"excess_corrected", t.excess_corrected},
+                           {"excess_within_tolerance", t.excess_within_tolerance},
                            {"gap", t.gap},
                            {"remaining_significant", t.remaining_significant},
                            {"points", t.points}});

@@ -53,6 +53,7 @@ UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
 
 double GapProblem::heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights,
                                  const std::vector<bool>* only) const {
+  if (only == nullptr && !scored_.empty()) only = &scored_;
   return mean_over_kinds(only, [&](std::size_t t) {
     double sum = 0.0;
     double n = 0.0;

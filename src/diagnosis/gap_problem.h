@@ -35,11 +35,14 @@ class GapProblem {
   double training_error(const Predictions& predictions) const;
   UnitSums heldout_sums(const Predictions& predictions) const;
   // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is); with
-  // `only`, over the trials it marks.
+  // `only`, over the trials it marks; otherwise over the scored trials (set_scored), all by default.
   double heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr,
                        const std::vector<bool>* only = nullptr) const;
   // Units with held-out measurements, per trial, for the bootstrap.
   std::vector<std::vector<std::size_t>> heldout_units() const;
+
+  // The trials the held-out error is taken over from now on (the verdict: those with a gap beyond the tolerances).
+  void set_scored(std::vector<bool> scored) { scored_ = std::move(scored); }
 
   std::size_t size() const { return trials_.size(); }
   const std::vector<PreparedTrial>& trials() const { return trials_; }
@@ -50,6 +53,7 @@ class GapProblem {
 
   std::vector<PreparedTrial>& trials_;
   ReplayEngine& engine_;
+  std::vector<bool> scored_;  // empty: every trial
 };
 
 // The bootstrap's 95 % interval of the shrink fraction, resampling each trial's held-out units with replacement;

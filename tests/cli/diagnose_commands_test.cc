@@ -49,6 +49,9 @@ TEST_F(CliDiagnose, SynthesizeImportAndDiagnoseWriteTheReport) {
   EXPECT_TRUE(fs::exists(dir_ / "diag/diagnosis.html"));
 }
 
+const std::string torque_rig = (kSource / "experiments/independent_device/torque_rig.json").string();
+const std::string prototype = (kSource / "experiments/independent_device/prototype.json").string();
+
 TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
   const std::string model = (kSource / "models/paper_device.json").string();
   const std::string empty = (dir_ / "empty").string();
@@ -78,8 +81,32 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
        2,
        "--effect 'slow_vent:abc' level: 'abc' is not a finite number"},
       {{"generate"}, 2, "--out is required"},
+      {{"diagnose", "--real", empty, "--model", model, "--tolerances", (dir_ / "tol.json").string()},
+       1,
+       "tol.json: r0_fractoin: unknown field"},
+      {{"diagnose", "--real", empty, "--model", model, "--tolerances", (dir_ / "tol.json").string(), "--no-tolerances"},
+       2,
+       "exclude each other"},
+      {{"diagnose-bench", "--generator", "mirror"}, 2, "'mirror' is neither catalogue nor independent"},
+      {{"diagnose-bench", "--shard", "1/2"}, 2, "--shard needs --generator independent"},
+      {{"diagnose-bench", "--generator", "independent", "--variation", "2"}, 2, "--variation is the catalogue"},
+      {{"diagnose-bench", "--generator", "independent", "--forms", "nonsense", "--prototype", prototype, "--torque-rig",
+        torque_rig},
+       2,
+       "'nonsense' is not a form"},
+      {{"diagnose-bench", "--generator", "independent", "--shard", "3/2", "--prototype", prototype, "--torque-rig",
+        torque_rig},
+       2,
+       "--shard"},
+      {{"diagnose-bench", "--generator", "independent", "--prototype", (dir_ / "nowhere.json").string()},
+       2,
+       "no placement file"},
+      {{"diagnose-bench", "--generator", "independent", "--merge", (dir_ / "missing.json").string()},
+       1,
+       "missing.json"},
   };
   std::ofstream(dir_ / "x.csv") << "muscle,pressure_kpa,limit_deg\nflexor,137,25\n";
+  std::ofstream(dir_ / "tol.json") << R"({"r0_fractoin": 0.05})";
   for (const Case& c : cases) {
     const auto r = run(c.args);
     EXPECT_NE(r.code, 0) << c.says;
@@ -105,6 +132,39 @@ TEST_F(CliDiagnose, GenerateWritesTheIndependentDevicesDataSet) {
   const auto forms = run({"generate", "--list-forms"});
   ASSERT_EQ(forms.code, 0) << forms.err;
   EXPECT_THAT(forms.out, HasSubstr("leaking_fitting"));
+}
+
+// diagnose-bench on the independent device, end to end: the nominal device at one seed, run as shard 1 of 2 (shard 2
+// is empty) and merged; the run is scored and nothing failed. (That merged shards give the same figures as one run
+// is tested on the runs themselves, independent_benchmark_test: a diagnosis of this data set takes minutes.)
+TEST_F(CliDiagnose, IndependentBenchmarkRunsShardsAndMerges) {
+  const std::vector<std::string> bench = {
+      "diagnose-bench", "--generator", "independent", "--forms", "none",         "--no-pairs", "--seeds", "1",
+      "--trajectory-s", "4",           "--prototype", prototype, "--torque-rig", torque_rig,   "--jobs",  "1"};
+  for (const char* shard : {"1/2", "2/2"}) {
+    std::vector<std::string> args = bench;
+    for (const std::string& more : {std::string("--shard"), std::string(shard), std::string("--out"),
+                                    (dir_ / (std::string("shard") + shard[0] + ".json")).string()})
+      args.push_back(more);
+    const auto r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("'none' on the nominal device"));
+  }
+  const auto merged = run({"diagnose-bench", "--generator", "independent", "--json", "--merge",
+                           (dir_ / "shard1.json").string(), (dir_ / "shard2.json").string()});
+  ASSERT_EQ(merged.code, 0) << merged.err;
+  const auto summary = nlohmann::json::parse(merged.out);
+  ASSERT_EQ(summary["runs"].size(), 1u);
+  EXPECT_EQ(summary["runs"][0]["error"], "") << summary["runs"][0].dump();
+  EXPECT_EQ(summary["runs"][0]["expected"], "none");
+  EXPECT_EQ(summary["counts"]["none"]["cases"], 1);
+  for (const char* key : {"top1_ci95", "none_correct_rate_ci95", "unexplained_correct_rate_ci95",
+                          "pairs_primary_correct_rate", "detection_curve"})
+    EXPECT_TRUE(summary.contains(key)) << key;
+  const auto twice = run({"diagnose-bench", "--generator", "independent", "--merge", (dir_ / "shard1.json").string(),
+                          (dir_ / "shard1.json").string()});
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_THAT(twice.err, HasSubstr("appears twice"));
 }
 
 }  // namespace

@@ -1,0 +1,51 @@
+#pragma once
+// How well the nominal placement file is known (docs/diagnosis.md, "Tolerances"). No real device is its placement
+// file: an fPAM's r0 and eps_max scatter from one fit to the next, a wrist radius is measured on soft tissue, a relaxed
+// wrist is stiffer one day than the next. The diagnosis's null hypothesis is therefore "the nominal model, anywhere
+// within these tolerances", not "the nominal model exactly": a device that differs from its placement file only
+// within them is `none`, and an effect is what lies beyond them. All zero gives the nominal exactly.
+
+#include <filesystem>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "diagnosis/effects.h"
+
+namespace softwrist::diagnosis {
+
+struct Tolerances {
+  // Table tensile_testing_parameters: the calculated r0 of the paper's one flexor scatters 1.19-1.27 cm between
+  // pressures (standard deviation 2.6 % of the mean), its eps_max at the nonzero pressures 0.277-0.303 (0.012).
+  double r0_fraction = 0.03;
+  double eps_max = 0.012;
+  // The wrist's wrapping radius, measured on soft tissue: 2 mm of the paper's 3.99 cm (assumed).
+  double wrist_radius_fraction = 0.05;
+  // The mounts' stretching coefficients: the paper fits one K per mount to a handful of points (Eqn.
+  // fabric_stretching), and a band's stiffness changes with how tightly it is strapped (assumed).
+  double mount_stiffness_fraction = 0.3;
+  // The relaxed wrist: day-to-day scatter of passive wrist stiffness 10-20 % (Formica et al., J. Neurophysiol. 2012);
+  // damping is known less well (assumed).
+  double passive_stiffness_fraction = 0.2;
+  double passive_damping_fraction = 0.3;
+  // The regulators' time constant: the nominal's is assumed from the QB3's response, not measured (assumed).
+  double regulator_time_constant_fraction = 0.2;
+
+  static Tolerances none() { return {0, 0, 0, 0, 0, 0, 0}; }
+};
+
+// A tolerance file: a JSON object with any of the fields above (the rest keep their defaults), each >= 0 and below
+// 1 where it is a fraction. Errors name the file and the field.
+Tolerances read_tolerances(const std::filesystem::path& file);
+nlohmann::json to_json(const Tolerances& tolerances);
+
+// The box of effect `id`'s parameters (in its spec's units, applied to `nominal`) within which the device is the
+// nominal within its tolerances: one [low, high] per parameter, a zero-width one at the neutral value where the
+// nominal has no such freedom (a dead time, a hysteresis, an IMU offset it does not have). Empty when every
+// parameter's box is zero-width.
+std::optional<std::vector<std::pair<double, double>>> tolerance_box(EffectId id, const sim::DeviceDescription& nominal,
+                                                                    const Tolerances& tolerances);
+
+}  // namespace softwrist::diagnosis
