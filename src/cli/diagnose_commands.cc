@@ -379,7 +379,8 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
   bench->add_option("--first-seed", b->first_seed, "Seed of the first data set (default 1)");
   bench->add_option("--jobs", b->jobs, "Data sets diagnosed in parallel (default 2)");
   bench->add_option("--cases", b->cases, "Only these cases (default all)")->delimiter(',');
-  bench->add_option("--trajectory-s", b->trajectory_s, "Length of each data set's trajectory (default 24 s)");
+  bench->add_option("--trajectory-s", b->trajectory_s,
+                    "Length of each data set's trajectory (default 24 s; independent: 12 s)");
   bench->add_option("--variation", b->variation,
                     "Scale of the device-to-device variations (default 1: the assumed tolerances, docs/diagnosis.md)");
   bench->add_option("--keep", b->keep, "Keep each data set and its diagnosis.json under this directory");
