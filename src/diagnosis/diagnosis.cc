@@ -106,13 +106,12 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
 // too, so a trial keeps its gap only if it differs from both).
 void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const ModelVariant& as_placed, double trial_alpha,
                              const DiagnosisOptions& options) {
-  d.tolerance = {.tolerances = options.tolerances};
+  const bool any_gap = std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; });
+  d.tolerance =
+      any_gap ? fit_within_tolerances(problem, as_placed, options) : ToleranceFit{.tolerances = options.tolerances};
   d.tolerance.heldout_error_as_placed = d.tolerance.heldout_error_within = d.heldout_nominal;
-  if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; })) return;
-  d.tolerance = fit_within_tolerances(problem, as_placed, options);
   if (d.tolerance.params.empty()) return;
   const Predictions within_full = problem.evaluate(*d.tolerance.variant, false);
-  d.tolerance.heldout_error_as_placed = d.heldout_nominal;
   d.tolerance.heldout_error_within = problem.heldout_error(problem.heldout_sums(within_full));
   const std::vector<TrialGap> within =
       nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, within_full), trial_alpha, options.min_gap);
@@ -250,6 +249,7 @@ std::string tolerance_note(const Diagnosis& d) {
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   const bool any_significant =
       std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
+  const bool any_gap = std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; });
   const auto largest = std::max_element(d.trials.begin(), d.trials.end(), [](const TrialGap& a, const TrialGap& b) {
     return a.excess_nominal < b.excess_nominal;
   });
@@ -258,14 +258,13 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
     d.reason = fmt::format(
         "no trial differs from the nominal model beyond its repeat-to-repeat noise (F test, alpha {} over {} trials)",
         options.alpha, d.prepared.size());
-  } else if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; }) &&
-             !d.tolerance.params.empty()) {
+  } else if (!any_gap && !d.tolerance.params.empty()) {
     d.verdict = "none";
     d.reason = fmt::format(
         "the nominal within its tolerances explains every trial that differs from it as placed{}: the largest gap as "
         "placed, {:.2f} noise units ({}), is {:.2f} within them",
         tolerance_note(d), largest->excess_nominal, largest->experiment, largest->excess_within_tolerance);
-  } else if (std::none_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; })) {
+  } else if (!any_gap) {
     d.verdict = "none";
     d.reason = fmt::format(
         "the largest systematic residual of a trial is {:.2f} of its noise ({}; below {}): detectable in this much "
@@ -301,13 +300,12 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   Diagnosis d;
   d.data = std::move(data);
   d.problems = d.data.problems;
-  ModelVariant as_placed{.device = nominal_device};
-  prepare_trials(d, engine, as_placed);
+  ModelVariant nominal{.device = nominal_device};  // as placed: the effects are fitted from it
+  prepare_trials(d, engine, nominal);
   GapProblem problem(d.prepared, engine);
 
   // Replay with the nominal model as placed; localise; test each trial's gap.
   const double trial_alpha = options.alpha / static_cast<double>(problem.size());
-  const ModelVariant& nominal = as_placed;
   const Predictions nominal_full = problem.evaluate(nominal, false);
   const Predictions nominal_training = problem.evaluate(nominal, true);
   d.nominal_predictions = nominal_full;

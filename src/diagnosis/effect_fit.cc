@@ -161,13 +161,13 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
   std::vector<EffectId> ids;
   std::vector<std::vector<double>> start;
   std::vector<FreeParameter> free;
+  // A rig whose placement has rigid mounts has no stiffness to be uncertain about, and the fit would give it one.
+  const bool rigid_rig = std::any_of(nominal.rigs.begin(), nominal.rigs.end(), [](const auto& rig) {
+    return rig.second.stretch_mode == physics::StretchMode::kNone;
+  });
   for (const EffectSpec& spec : effect_catalogue()) {
     const bool acts = std::any_of(problem.trials().begin(), problem.trials().end(),
                                   [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
-    // A rig whose placement has rigid mounts has no stiffness to be uncertain about, and the fit would give it one.
-    const bool rigid_rig = std::any_of(nominal.rigs.begin(), nominal.rigs.end(), [](const auto& rig) {
-      return rig.second.stretch_mode == physics::StretchMode::kNone;
-    });
     if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig)) continue;
     const auto box = tolerance_box(spec.id, nominal.device, options.tolerances);
     if (!box) continue;
@@ -177,11 +177,13 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
       if ((*box)[i].second > (*box)[i].first) free.push_back({ids.size() - 1, i, (*box)[i].first, (*box)[i].second});
     }
   }
+  // Free parameter k at point u of the unit cube.
+  const auto value_at = [&](std::size_t k, std::span<const double> u) {
+    return free[k].low + std::clamp(u[k], 0.0, 1.0) * (free[k].high - free[k].low);
+  };
   const auto variant_at = [&](std::span<const double> u) {
     std::vector<std::vector<double>> values = start;
-    for (std::size_t k = 0; k < free.size(); ++k)
-      values[free[k].effect][free[k].parameter] =
-          free[k].low + std::clamp(u[k], 0.0, 1.0) * (free[k].high - free[k].low);
+    for (std::size_t k = 0; k < free.size(); ++k) values[free[k].effect][free[k].parameter] = value_at(k, u);
     ModelVariant v = nominal;
     for (std::size_t e = 0; e < ids.size(); ++e) apply_effect(ids[e], values[e], v);
     return v;
@@ -217,7 +219,7 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
   for (std::size_t k = 0; k < free.size(); ++k) {
     const EffectSpec& spec = effect_spec(ids[free[k].effect]);
     const std::string name = fmt::format("{}.{}", spec.name, spec.parameters[free[k].parameter].name);
-    fit.params.emplace_back(name, free[k].low + u[k] * (free[k].high - free[k].low));
+    fit.params.emplace_back(name, value_at(k, u));
     // At an edge of its box (within 2 % of its width): the device may lie beyond its tolerance there.
     if (u[k] < 0.02 || u[k] > 0.98) fit.at_bound.push_back(name);
   }

@@ -295,30 +295,31 @@ nlohmann::json summarize(const std::vector<IndependentRun>& unsorted) {
   const auto [none, nominal] = count(CaseCategory::kNone, correct);
   const auto [unexplained, outside] = count(CaseCategory::kOutside, correct);
   const auto [primary, pairs] = count(CaseCategory::kPair, correct);
-  const auto [second, pairs_named] = count(CaseCategory::kPair, [](const IndependentRun& r) {
-    return r.correct() &&
-           std::find(r.also_effects.begin(), r.also_effects.end(), r.expected_second) != r.also_effects.end();
-  });
+  const int second = count(CaseCategory::kPair, [](const IndependentRun& r) {
+                       return r.correct() && std::find(r.also_effects.begin(), r.also_effects.end(),
+                                                       r.expected_second) != r.also_effects.end();
+                     }).first;
   double closed = 0.0;
   for (const auto& r : runs) closed += r.category == CaseCategory::kSingle && r.error.empty() ? r.gap_closed : 0.0;
 
+  const nlohmann::json single = rate_json(top1, singles), nominal_case = rate_json(none, nominal),
+                       outside_forms = rate_json(unexplained, outside), pair = rate_json(primary, pairs);
   nlohmann::json j;
   j["generator"] = "independent";
-  const auto rate = [](int k, int n) { return n > 0 ? nlohmann::json(static_cast<double>(k) / n) : nlohmann::json(); };
-  j["top1_accuracy"] = rate(top1, singles);
-  j["top1_ci95"] = rate_json(top1, singles)["ci95"];
-  j["none_correct_rate"] = rate(none, nominal);
-  j["none_correct_rate_ci95"] = rate_json(none, nominal)["ci95"];
-  j["unexplained_correct_rate"] = rate(unexplained, outside);
-  j["unexplained_correct_rate_ci95"] = rate_json(unexplained, outside)["ci95"];
-  j["pairs_primary_correct_rate"] = rate(primary, pairs);
-  j["pairs_primary_correct_rate_ci95"] = rate_json(primary, pairs)["ci95"];
-  j["pairs_second_reported_rate"] = rate(second, pairs_named);
+  j["top1_accuracy"] = single["rate"];
+  j["top1_ci95"] = single["ci95"];
+  j["none_correct_rate"] = nominal_case["rate"];
+  j["none_correct_rate_ci95"] = nominal_case["ci95"];
+  j["unexplained_correct_rate"] = outside_forms["rate"];
+  j["unexplained_correct_rate_ci95"] = outside_forms["ci95"];
+  j["pairs_primary_correct_rate"] = pair["rate"];
+  j["pairs_primary_correct_rate_ci95"] = pair["ci95"];
+  j["pairs_second_reported_rate"] = rate_json(second, pairs)["rate"];
   j["mean_shrink_fraction"] = singles > 0 ? nlohmann::json(closed / singles) : nlohmann::json();
-  j["counts"] = {{"single", rate_json(top1, singles)},
-                 {"none", rate_json(none, nominal)},
-                 {"outside", rate_json(unexplained, outside)},
-                 {"pairs", rate_json(primary, pairs)},
+  j["counts"] = {{"single", single},
+                 {"none", nominal_case},
+                 {"outside", outside_forms},
+                 {"pairs", pair},
                  {"errors", std::count_if(runs.begin(), runs.end(), [](const auto& r) { return !r.error.empty(); })}};
   j["targets"] = {{"top1_accuracy", kTop1Target},
                   {"top1_ci95_low", kTop1LowerBoundTarget},
