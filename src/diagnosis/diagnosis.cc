@@ -10,6 +10,7 @@
 #include "common/parallel_for.h"
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
+#include "diagnosis/tolerance_fit.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -238,12 +239,20 @@ std::string remaining_gaps(const Diagnosis& d) {
   return fmt::format("a significant gap remains in {}", fmt::join(names, ", "));
 }
 
-// What the nominal took within its tolerances, for a reason: " (the nominal within its tolerances: a=1, b=2)".
+// What the nominal took within its tolerances, for a reason: " (the nominal within its tolerances, 30 parameters,
+// moved most: a=1, b=2, ...)", the six that moved furthest into their boxes.
 std::string tolerance_note(const Diagnosis& d) {
-  if (d.tolerance.params.empty()) return "";
+  const ToleranceFit& fit = d.tolerance;
+  if (fit.params.empty()) return "";
+  std::vector<std::size_t> order(fit.params.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return std::abs(fit.moved[a]) > std::abs(fit.moved[b]); });
   std::vector<std::string> values;
-  for (const auto& [name, value] : d.tolerance.params) values.push_back(fmt::format("{}={:.4g}", name, value));
-  return fmt::format(" (the nominal within its tolerances: {})", fmt::join(values, ", "));
+  for (std::size_t i = 0; i < std::min<std::size_t>(6, order.size()); ++i)
+    values.push_back(fmt::format("{}={:.4g}", fit.params[order[i]].first, fit.params[order[i]].second));
+  return fmt::format(" (the nominal within its tolerances, {} parameters, moved most: {})", fit.params.size(),
+                     fmt::join(values, ", "));
 }
 
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {

@@ -55,7 +55,7 @@ struct DiagnosisOptions {
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
   // leaves one, so that a device differing from its placement file only within its tolerances is `none`.
   Tolerances tolerances;
-  int tolerance_evaluations = 80;  // the tolerance fit's budget (one search over every free parameter at once)
+  int tolerance_evaluations = 200;  // the tolerance fit's budget of replays (its Jacobians included)
 };
 
 // The nominal within its tolerances: the values the free parameters took inside their boxes, and the model they give,
@@ -63,6 +63,7 @@ struct DiagnosisOptions {
 struct ToleranceFit {
   Tolerances tolerances;                               // as given
   std::vector<std::pair<std::string, double>> params;  // the free ones: "fpam_params.r0_scale" -> value
+  std::vector<double> moved;  // per param: how far from the nominal, as a fraction of the box's side it moved into
   std::vector<std::string> at_bound;  // free parameters fitted at an edge of their box: possibly beyond tolerance
   double train_error_before = 0.0, train_error_after = 0.0;
   double heldout_error_as_placed = 0.0, heldout_error_within = 0.0;  // held out, the nominal as placed and fitted

@@ -11,9 +11,14 @@ namespace {
 // The nominal within its tolerances: the tolerances given, what was fitted within them, and the held-out errors.
 nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
   nlohmann::json fitted = nlohmann::json::object();
-  for (const auto& [name, value] : tolerance.params) fitted[name] = value;
+  nlohmann::json moved = nlohmann::json::object();
+  for (std::size_t k = 0; k < tolerance.params.size(); ++k) {
+    fitted[tolerance.params[k].first] = tolerance.params[k].second;
+    moved[tolerance.params[k].first] = tolerance.moved[k];
+  }
   return {{"tolerances", to_json(tolerance.tolerances)},
           {"fitted", fitted},
+          {"moved_fraction", moved},
           {"at_bound", tolerance.at_bound},
           {"heldout_error_as_placed", tolerance.heldout_error_as_placed},
           {"heldout_error_within", tolerance.heldout_error_within},

@@ -11,7 +11,6 @@
 
 #include <fmt/format.h>
 
-#include "diagnosis/tolerance.h"
 #include "optimize/bounded_search.h"
 
 namespace softwrist::diagnosis {
@@ -141,88 +140,6 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
                             : 0.0;
   std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(problem, before, after, options.bootstrap, seed);
   fit.score = fit.shrink_fraction - options.parameter_penalty * static_cast<double>(spec.parameters.size());
-  return fit;
-}
-
-namespace {
-
-// One parameter of the tolerance fit: which effect, which of its parameters, and its box.
-struct FreeParameter {
-  std::size_t effect, parameter;
-  double low, high;
-};
-
-}  // namespace
-
-ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
-                                   const DiagnosisOptions& options) {
-  ToleranceFit fit{.tolerances = options.tolerances};
-  // Every effect with a free tolerance box that acts on some trial, at the nominal's own values (fit_start).
-  std::vector<EffectId> ids;
-  std::vector<std::vector<double>> start;
-  std::vector<FreeParameter> free;
-  // A rig whose placement has rigid mounts has no stiffness to be uncertain about, and the fit would give it one.
-  const bool rigid_rig = std::any_of(nominal.rigs.begin(), nominal.rigs.end(), [](const auto& rig) {
-    return rig.second.stretch_mode == physics::StretchMode::kNone;
-  });
-  for (const EffectSpec& spec : effect_catalogue()) {
-    const bool acts = std::any_of(problem.trials().begin(), problem.trials().end(),
-                                  [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
-    if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig)) continue;
-    const auto box = tolerance_box(spec.id, nominal.device, options.tolerances);
-    if (!box) continue;
-    ids.push_back(spec.id);
-    start.push_back(fit_start(spec.id, nominal.device));
-    for (std::size_t i = 0; i < box->size(); ++i) {
-      if ((*box)[i].second > (*box)[i].first) free.push_back({ids.size() - 1, i, (*box)[i].first, (*box)[i].second});
-    }
-  }
-  // Free parameter k at point u of the unit cube.
-  const auto value_at = [&](std::size_t k, std::span<const double> u) {
-    return free[k].low + std::clamp(u[k], 0.0, 1.0) * (free[k].high - free[k].low);
-  };
-  const auto variant_at = [&](std::span<const double> u) {
-    std::vector<std::vector<double>> values = start;
-    for (std::size_t k = 0; k < free.size(); ++k) values[free[k].effect][free[k].parameter] = value_at(k, u);
-    ModelVariant v = nominal;
-    for (std::size_t e = 0; e < ids.size(); ++e) apply_effect(ids[e], values[e], v);
-    return v;
-  };
-  std::vector<double> start_u;
-  for (const FreeParameter& p : free)
-    start_u.push_back(std::clamp((start[p.effect][p.parameter] - p.low) / (p.high - p.low), 0.0, 1.0));
-  fit.variant.emplace(variant_at(start_u));
-  if (free.empty()) return fit;
-  fit.train_error_before = problem.training_error(problem.evaluate(nominal, true));
-  const auto objective = [&](std::span<const double> u) {
-    ++fit.evaluations;
-    try {
-      const double error = problem.training_error(problem.evaluate(variant_at(u), true));
-      return std::isfinite(error) ? error : kInfeasible;
-    } catch (const std::exception&) {
-      return kInfeasible;
-    }
-  };
-  // BOBYQA from the nominal, without a start grid: the boxes are small and the error near quadratic in them.
-  const optimize::BoundedSearchResult found =
-      optimize::minimize_bounded(objective, start_u,
-                                 {.algorithm = optimize::LocalAlgorithm::kBobyqa,
-                                  .lower = std::vector<double>(free.size(), 0.0),
-                                  .upper = std::vector<double>(free.size(), 1.0),
-                                  .initial_step = std::vector<double>(free.size(), 0.25),
-                                  .x_tolerance_abs = 1e-4,
-                                  .f_tolerance_rel = 1e-7,
-                                  .max_evaluations = options.tolerance_evaluations});
-  const std::vector<double> u = found.value <= fit.train_error_before ? found.x : start_u;
-  fit.train_error_after = std::min(found.value, fit.train_error_before);
-  fit.variant.emplace(variant_at(u));
-  for (std::size_t k = 0; k < free.size(); ++k) {
-    const EffectSpec& spec = effect_spec(ids[free[k].effect]);
-    const std::string name = fmt::format("{}.{}", spec.name, spec.parameters[free[k].parameter].name);
-    fit.params.emplace_back(name, value_at(k, u));
-    // At an edge of its box (within 2 % of its width): the device may lie beyond its tolerance there.
-    if (u[k] < 0.02 || u[k] > 0.98) fit.at_bound.push_back(name);
-  }
   return fit;
 }
 

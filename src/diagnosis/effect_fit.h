@@ -20,9 +20,4 @@ struct BaseModel {
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);
 
-// The nominal within its tolerances (tolerance.h): every applicable effect's tolerance box searched at once on the
-// training part, starting from the nominal itself (BOBYQA, no start grid: the boxes are small).
-ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
-                                   const DiagnosisOptions& options);
-
 }  // namespace softwrist::diagnosis

@@ -5,6 +5,7 @@
 // rest act where the model meets the measurement (regulator dead time on the commands, IMU offset and latency on the
 // angles, loading/unloading hysteresis of the fPAM force on the tensile rig).
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -50,6 +51,9 @@ struct ModelVariant {
   double hysteresis = 0.0;                          // fPAM force x (1 + h) loading, x (1 - h) unloading
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
   double imu_latency = 0.0;                         // [s] the measured angles are this old
+  // Each regulator's pressure monitor reads gain x pressure + offset (the tolerance fit's calibration; exact here).
+  std::array<double, 4> monitor_gain{1.0, 1.0, 1.0, 1.0};
+  std::array<double, 4> monitor_offset{};  // [Pa]
 
   // The device of the trial's rig: its placement file's, or `device` when it names none.
   const sim::DeviceDescription& device_for(const Trial& trial) const;

@@ -33,6 +33,25 @@ double GapProblem::training_error(const Predictions& predictions) const {
   });
 }
 
+std::vector<double> GapProblem::training_residuals(const Predictions& predictions) const {
+  // training_error = (1 / kinds) sum over kinds of (1 / trials of the kind) sum over its trials of the mean square.
+  std::map<TrialKind, int> trials_of_kind;
+  for (const PreparedTrial& trial : trials_) ++trials_of_kind[trial.trial->kind];
+  std::vector<double> residuals;
+  for (std::size_t t = 0; t < trials_.size(); ++t) {
+    const PreparedTrial& trial = trials_[t];
+    const auto n = std::count_if(trial.points.begin(), trial.points.end(), [](const Point& p) { return !p.heldout; });
+    if (n == 0) continue;
+    const double weight = std::sqrt(1.0 / (static_cast<double>(trials_of_kind.size()) *
+                                           trials_of_kind[trial.trial->kind] * static_cast<double>(n))) /
+                          trial.noise;
+    for (std::size_t i = 0; i < trial.points.size(); ++i) {
+      if (!trial.points[i].heldout) residuals.push_back(weight * (trial.points[i].measured - predictions[t][i]));
+    }
+  }
+  return residuals;
+}
+
 UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
   UnitSums sums;
   for (std::size_t t = 0; t < trials_.size(); ++t) {

@@ -33,6 +33,8 @@ class GapProblem {
 
   // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements.
   double training_error(const Predictions& predictions) const;
+  // The same as residuals, each weighted so that their sum of squares is training_error (for least squares).
+  std::vector<double> training_residuals(const Predictions& predictions) const;
   UnitSums heldout_sums(const Predictions& predictions) const;
   // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is); with
   // `only`, over the trials it marks; otherwise over the scored trials (set_scored), all by default.

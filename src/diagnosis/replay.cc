@@ -524,8 +524,11 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
     if (training_only && point.heldout) continue;
     const double t = trial.trajectory[i % n].t;
     if (prepared.pressures) {  // the regulator's monitor output, read with the row
-      const auto& series = simulated->pressure_kpa[static_cast<std::size_t>(point.channel - 2)];
-      out[i] = series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))];
+      const auto m = static_cast<std::size_t>(point.channel - 2);
+      const auto& series = simulated->pressure_kpa[m];
+      out[i] = variant.monitor_gain[m] *
+                   series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))] +
+               pa_to_kpa(variant.monitor_offset[m]);
       continue;
     }
     out[i] = point.channel == 0 ? rad_to_deg(imu_reading(simulated->fe, t) - zero_fe + variant.imu_offset_fe)

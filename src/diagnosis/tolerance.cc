@@ -9,20 +9,29 @@
 namespace softwrist::diagnosis {
 namespace {
 
-// The fields of a tolerance file, with where each lives in Tolerances.
+// The fields of a tolerance file, with where each lives in Tolerances, the factor from the file's unit to SI and the
+// value it must stay below.
 struct Field {
   const char* name;
   double Tolerances::*member;
-  bool fraction;  // a relative tolerance, below 1
+  double to_si;
+  double below;
+  const char* range;  // why `below`
 };
+constexpr double kMm = 1e-3, kDeg = 0.017453292519943295, kKpa = 1e3;
 constexpr Field kFields[] = {
-    {"r0_fraction", &Tolerances::r0_fraction, true},
-    {"eps_max", &Tolerances::eps_max, false},
-    {"wrist_radius_fraction", &Tolerances::wrist_radius_fraction, true},
-    {"mount_stiffness_fraction", &Tolerances::mount_stiffness_fraction, true},
-    {"passive_stiffness_fraction", &Tolerances::passive_stiffness_fraction, true},
-    {"passive_damping_fraction", &Tolerances::passive_damping_fraction, true},
-    {"regulator_time_constant_fraction", &Tolerances::regulator_time_constant_fraction, true},
+    {"r0_fraction", &Tolerances::r0_fraction, 1.0, 1.0, "a fraction"},
+    {"eps_max", &Tolerances::eps_max, 1.0, 0.08, "the fit's range"},
+    {"wrist_radius_fraction", &Tolerances::wrist_radius_fraction, 1.0, 1.0, "a fraction"},
+    {"mount_stiffness_fraction", &Tolerances::mount_stiffness_fraction, 1.0, 1.0, "a fraction"},
+    {"passive_stiffness_fraction", &Tolerances::passive_stiffness_fraction, 1.0, 1.0, "a fraction"},
+    {"passive_damping_fraction", &Tolerances::passive_damping_fraction, 1.0, 1.0, "a fraction"},
+    {"regulator_time_constant_fraction", &Tolerances::regulator_time_constant_fraction, 1.0, 1.0, "a fraction"},
+    {"anchor_mm", &Tolerances::anchor, kMm, 20.0, "an anchor known within 2 cm"},
+    {"rest_length_mm", &Tolerances::rest_length, kMm, 20.0, "a length known within 2 cm"},
+    {"passive_range_margin_deg", &Tolerances::passive_range_margin, kDeg, 45.0, "a joint's passive range"},
+    {"monitor_offset_kpa", &Tolerances::monitor_offset, kKpa, 10.0, "a monitor known within 10 kPa"},
+    {"monitor_gain_fraction", &Tolerances::monitor_gain_fraction, 1.0, 0.2, "a monitor known within 20 %"},
 };
 
 std::pair<double, double> around(double value, double fraction) {
@@ -36,10 +45,9 @@ Tolerances read_tolerances(const std::filesystem::path& file) {
   io::JsonReader reader(json, file.string(), "");
   Tolerances t;
   for (const Field& f : kFields) {
-    const double v = reader.non_negative(f.name, t.*f.member);
-    if (f.fraction && v >= 1.0) reader.fail(f.name, fmt::format("must be a fraction below 1, got {}", v));
-    if (!f.fraction && v >= 0.08) reader.fail(f.name, fmt::format("must be below 0.08 (the fit's range), got {}", v));
-    t.*f.member = v;
+    const double v = reader.non_negative(f.name, t.*f.member / f.to_si);
+    if (v >= f.below) reader.fail(f.name, fmt::format("must be below {} ({}), got {}", f.below, f.range, v));
+    t.*f.member = v * f.to_si;
   }
   reader.finish();
   return t;
@@ -47,7 +55,7 @@ Tolerances read_tolerances(const std::filesystem::path& file) {
 
 nlohmann::json to_json(const Tolerances& tolerances) {
   nlohmann::json j = nlohmann::json::object();
-  for (const Field& f : kFields) j[f.name] = tolerances.*f.member;
+  for (const Field& f : kFields) j[f.name] = tolerances.*f.member / f.to_si;
   return j;
 }
 

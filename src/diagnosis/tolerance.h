@@ -32,12 +32,27 @@ struct Tolerances {
   double passive_damping_fraction = 0.3;
   // The regulators' time constant: the nominal's is assumed from the QB3's response, not measured (assumed).
   double regulator_time_constant_fraction = 0.2;
+  // Each muscle of each rig on its own (a device's muscles differ from one another, not by one shared factor): the
+  // hand anchor (d2, w2), derived from motion-capture markers on the fabric, whose centres sit a few mm off the
+  // strap's line of pull (assumed 3 mm; near the wrist, as the paper's d2 = 1 cm ulnar muscle, a mm matters), and
+  // the rest length L0, measured along a fabric muscle laid straight by hand (assumed 2 mm).
+  double anchor = 0.003;       // [m]
+  double rest_length = 0.002;  // [m]
+  // Table RoM's biological range is the user's voluntary (active) range; a relaxed wrist moved by the exosuit can go
+  // past it, a joint's passive range exceeding its active one (Norkin & White, Measurement of Joint Motion): each
+  // limit may lie up to this much beyond the placement file's (assumed 15 deg).
+  double passive_range_margin = 0.2617993877991494;  // [rad]
+  // Each regulator's pressure monitor: its offset and gain, calibrated against a reference gauge (assumed 0.5 kPa
+  // and 1 %; the regulators' own accuracy is a fraction of a percent of full scale).
+  double monitor_offset = 500.0;  // [Pa]
+  double monitor_gain_fraction = 0.01;
 
-  static Tolerances none() { return {0, 0, 0, 0, 0, 0, 0}; }
+  static Tolerances none() { return {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}; }
 };
 
-// A tolerance file: a JSON object with any of the fields above (the rest keep their defaults), each >= 0 and below
-// 1 where it is a fraction. Errors name the file and the field.
+// A tolerance file: a JSON object with any of the fields above (the rest keep their defaults), named with the unit
+// where it is not a fraction ("anchor_mm", "rest_length_mm", "passive_range_margin_deg", "monitor_offset_kpa"), each
+// >= 0 and below its plausible range (1 for a fraction). Errors name the file and the field.
 Tolerances read_tolerances(const std::filesystem::path& file);
 nlohmann::json to_json(const Tolerances& tolerances);
 

@@ -39,11 +39,23 @@ TEST_F(ToleranceFileTest, FieldsNotGivenKeepTheirDefaults) {
   EXPECT_EQ(to_json(t)["r0_fraction"], 0.05);
 }
 
+TEST_F(ToleranceFileTest, FieldsWithAUnitAreReadInItAndHeldInSi) {
+  const Tolerances t = read_tolerances(
+      write(R"({"anchor_mm": 2, "rest_length_mm": 1, "passive_range_margin_deg": 10, "monitor_offset_kpa": 0.25})"));
+  EXPECT_DOUBLE_EQ(t.anchor, 0.002);
+  EXPECT_DOUBLE_EQ(t.rest_length, 0.001);
+  EXPECT_NEAR(t.passive_range_margin, 10.0 * M_PI / 180.0, 1e-15);
+  EXPECT_DOUBLE_EQ(t.monitor_offset, 250.0);
+  EXPECT_NEAR(to_json(t)["passive_range_margin_deg"].get<double>(), 10.0, 1e-12);
+  EXPECT_DOUBLE_EQ(to_json(Tolerances{})["anchor_mm"].get<double>(), 3.0);
+}
+
 TEST_F(ToleranceFileTest, BadFilesNameTheFileAndTheField) {
   EXPECT_THAT(error_of(R"({"r0_fractoin": 0.05})"), HasSubstr("tolerances.json: r0_fractoin: unknown field"));
   EXPECT_THAT(error_of(R"({"wrist_radius_fraction": -0.1})"), HasSubstr("wrist_radius_fraction: must be >= 0"));
   EXPECT_THAT(error_of(R"({"passive_stiffness_fraction": 1.5})"),
-              HasSubstr("passive_stiffness_fraction: must be a fraction below 1"));
+              HasSubstr("passive_stiffness_fraction: must be below 1 (a fraction), got 1.5"));
+  EXPECT_THAT(error_of(R"({"anchor_mm": 25})"), HasSubstr("anchor_mm: must be below 20"));
   EXPECT_THAT(error_of(R"({"eps_max": "small"})"), HasSubstr("eps_max: must be a number"));
   EXPECT_THAT(error_of("{"), HasSubstr("tolerances.json: not valid JSON"));
 }

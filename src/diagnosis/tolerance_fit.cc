@@ -1,0 +1,255 @@
+#include "diagnosis/tolerance_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "diagnosis/tolerance.h"
+#include "optimize/bounded_least_squares.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+// What one free parameter of the fit changes.
+enum class KnobKind { kCatalogue, kHandAnchorD2, kHandAnchorW2, kRestLength, kLimit, kMonitorOffset, kMonitorGain };
+
+struct Knob {
+  KnobKind kind;
+  std::string name;             // as reported, in the unit of `nominal`
+  double nominal, low, high;    // the box, in the reported unit
+  double to_si = 1.0;           // reported unit -> the model's
+  std::size_t effect = 0;       // kCatalogue: index into the fit's effects; its parameter
+  std::size_t parameter = 0;
+  std::filesystem::path rig;    // per rig: its placement file (empty: the diagnosis's --model)
+  std::size_t index = 0;        // the muscle, the limit (flexion, extension, ulnar, radial) or the regulator
+  bool cheap = false;           // changes only how a simulation is read (its replays are cached)
+};
+
+// Which muscles each rig's trials use (by their placement file), and whether any uses the wrist's dynamics (range of
+// motion, trajectories: the joint limits) or reads measured pressures.
+struct Usage {
+  std::map<std::filesystem::path, std::set<std::size_t>> muscles;
+  std::set<std::filesystem::path> dynamic_rigs;
+  bool pressures = false;
+};
+
+Usage usage_of(const GapProblem& problem) {
+  Usage u;
+  for (const PreparedTrial& prepared : problem.trials()) {
+    const Trial& trial = *prepared.trial;
+    const auto& rig = trial.conventions.placement;
+    u.pressures = u.pressures || prepared.pressures;
+    switch (trial.kind) {
+      case TrialKind::kTorqueSweep:
+        for (const SweepPoint& p : trial.sweep) u.muscles[rig].insert(static_cast<std::size_t>(p.muscle));
+        break;
+      case TrialKind::kRangeOfMotion:
+        for (const RomPoint& p : trial.rom) u.muscles[rig].insert(static_cast<std::size_t>(p.muscle));
+        u.dynamic_rigs.insert(rig);
+        break;
+      case TrialKind::kTrajectory:
+        for (std::size_t m = 0; m < 4; ++m) u.muscles[rig].insert(m);
+        u.dynamic_rigs.insert(rig);
+        break;
+      case TrialKind::kTensile:  // the fPAM alone: no placement
+        break;
+    }
+  }
+  return u;
+}
+
+constexpr const char* kLimitNames[] = {"flexion", "extension", "ulnar", "radial"};
+
+std::string rig_name(const std::filesystem::path& rig) { return rig.empty() ? "model" : rig.stem().string(); }
+
+// The per-muscle, per-rig and per-regulator knobs the tolerances free.
+void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, const Tolerances& t,
+                      std::vector<Knob>& knobs) {
+  const Usage usage = usage_of(problem);
+  constexpr double kCm = 0.01;
+  for (const auto& [rig, muscles] : usage.muscles) {
+    const sim::DeviceDescription& device = rig.empty() ? nominal.device : nominal.rigs.at(rig);
+    for (std::size_t m : muscles) {
+      const sim::MuscleMount& mount = device.muscles[m];
+      const std::string prefix = fmt::format("{}.{}", rig_name(rig), sim::kMuscleNames[m]);
+      const auto add = [&](KnobKind kind, const char* field, double value_m, double tolerance_m) {
+        if (tolerance_m <= 0.0) return;
+        knobs.push_back({.kind = kind,
+                         .name = fmt::format("{}.{}_cm", prefix, field),
+                         .nominal = value_m / kCm,
+                         .low = (value_m - tolerance_m) / kCm,
+                         .high = (value_m + tolerance_m) / kCm,
+                         .to_si = kCm,
+                         .rig = rig,
+                         .index = m});
+      };
+      add(KnobKind::kHandAnchorD2, "d2", mount.placement.d2, t.anchor);
+      add(KnobKind::kHandAnchorW2, "w2", mount.placement.w2, t.anchor);
+      add(KnobKind::kRestLength, "L0", mount.rest_length, t.rest_length);
+    }
+  }
+  for (const auto& rig : usage.dynamic_rigs) {
+    if (t.passive_range_margin <= 0.0) break;
+    const sim::PassiveWrist& w = (rig.empty() ? nominal.device : nominal.rigs.at(rig)).wrist;
+    const double limits[] = {w.flexion_limit, w.extension_limit, w.ulnar_limit, w.radial_limit};
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double deg = units::rad_to_deg(limits[i]);
+      knobs.push_back({.kind = KnobKind::kLimit,
+                       .name = fmt::format("{}.wrist.{}_limit_deg", rig_name(rig), kLimitNames[i]),
+                       .nominal = deg,
+                       .low = deg,
+                       .high = deg + units::rad_to_deg(t.passive_range_margin),
+                       .to_si = units::deg_to_rad(1.0),
+                       .rig = rig,
+                       .index = i});
+    }
+  }
+  for (std::size_t m = 0; usage.pressures && m < 4; ++m) {
+    const std::string prefix = fmt::format("monitor.{}", sim::kMuscleNames[m]);
+    if (t.monitor_offset > 0.0) {
+      const double kpa = units::pa_to_kpa(t.monitor_offset);
+      knobs.push_back({.kind = KnobKind::kMonitorOffset, .name = prefix + ".offset_kpa", .nominal = 0.0, .low = -kpa,
+                       .high = kpa, .to_si = 1e3, .index = m, .cheap = true});
+    }
+    if (t.monitor_gain_fraction > 0.0) {
+      knobs.push_back({.kind = KnobKind::kMonitorGain, .name = prefix + ".gain", .nominal = 1.0,
+                       .low = 1.0 - t.monitor_gain_fraction, .high = 1.0 + t.monitor_gain_fraction, .index = m,
+                       .cheap = true});
+    }
+  }
+}
+
+// A knob's value applied to a copy of the nominal (per-device knobs before the catalogue's effects, which scale what
+// the placement holds).
+void apply_knob(const Knob& k, double value, ModelVariant& v) {
+  const double si = value * k.to_si;
+  sim::DeviceDescription& device = k.rig.empty() ? v.device : v.rigs.at(k.rig);
+  switch (k.kind) {
+    case KnobKind::kHandAnchorD2:
+      device.muscles[k.index].placement.d2 = si;
+      break;
+    case KnobKind::kHandAnchorW2:
+      device.muscles[k.index].placement.w2 = si;
+      break;
+    case KnobKind::kRestLength:
+      device.muscles[k.index].rest_length = si;
+      break;
+    case KnobKind::kLimit: {
+      double* limits[] = {&device.wrist.flexion_limit, &device.wrist.extension_limit, &device.wrist.ulnar_limit,
+                          &device.wrist.radial_limit};
+      *limits[k.index] = si;
+      break;
+    }
+    case KnobKind::kMonitorOffset:
+      v.monitor_offset[k.index] = si;
+      break;
+    case KnobKind::kMonitorGain:
+      v.monitor_gain[k.index] = si;
+      break;
+    case KnobKind::kCatalogue:
+      break;
+  }
+}
+
+// The catalogue's parameters with a free tolerance box, for every effect that acts on some trial, at the nominal's own
+// values (fit_start): the effects in `ids` with their start values, and a knob for each free parameter. A rig whose
+// placement has rigid mounts has no stiffness to be uncertain about.
+void add_catalogue_knobs(const GapProblem& problem, const ModelVariant& nominal, const Tolerances& tolerances,
+                         std::vector<EffectId>& ids, std::vector<std::vector<double>>& start,
+                         std::vector<Knob>& knobs) {
+  const bool rigid_rig = std::any_of(nominal.rigs.begin(), nominal.rigs.end(), [](const auto& rig) {
+    return rig.second.stretch_mode == physics::StretchMode::kNone;
+  });
+  for (const EffectSpec& spec : effect_catalogue()) {
+    const bool acts = std::any_of(problem.trials().begin(), problem.trials().end(),
+                                  [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
+    if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig)) continue;
+    const auto box = tolerance_box(spec.id, nominal.device, tolerances);
+    if (!box) continue;
+    ids.push_back(spec.id);
+    start.push_back(fit_start(spec.id, nominal.device));
+    for (std::size_t i = 0; i < box->size(); ++i) {
+      if ((*box)[i].second <= (*box)[i].first) continue;
+      knobs.push_back({.kind = KnobKind::kCatalogue,
+                       .name = fmt::format("{}.{}", spec.name, spec.parameters[i].name),
+                       .nominal = std::clamp(start.back()[i], (*box)[i].first, (*box)[i].second),
+                       .low = (*box)[i].first,
+                       .high = (*box)[i].second,
+                       .effect = ids.size() - 1,
+                       .parameter = i});
+    }
+  }
+}
+
+// The fitted values, how far each moved into its box, and which ended at an edge of it that is not the nominal itself
+// (within 2 % of the box's width): the device may lie beyond its tolerance there.
+void report_knobs(const std::vector<Knob>& knobs, const std::vector<double>& x, ToleranceFit& fit) {
+  for (std::size_t k = 0; k < knobs.size(); ++k) {
+    const Knob& knob = knobs[k];
+    fit.params.emplace_back(knob.name, x[k]);
+    const double side = x[k] >= knob.nominal ? knob.high - knob.nominal : knob.nominal - knob.low;
+    fit.moved.push_back(side > 0.0 ? (x[k] - knob.nominal) / side : 0.0);
+    const double edge = 0.02 * (knob.high - knob.low);
+    if ((x[k] < knob.low + edge && knob.low < knob.nominal) || (x[k] > knob.high - edge && knob.high > knob.nominal))
+      fit.at_bound.push_back(knob.name);
+  }
+}
+
+}  // namespace
+
+ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
+                                   const DiagnosisOptions& options) {
+  ToleranceFit fit{.tolerances = options.tolerances};
+  std::vector<EffectId> ids;
+  std::vector<std::vector<double>> start;
+  std::vector<Knob> knobs;
+  add_catalogue_knobs(problem, nominal, options.tolerances, ids, start, knobs);
+  add_device_knobs(problem, nominal, options.tolerances, knobs);
+  const auto variant_at = [&](std::span<const double> x) {
+    ModelVariant v = nominal;
+    std::vector<std::vector<double>> values = start;
+    for (std::size_t k = 0; k < knobs.size(); ++k) {
+      if (knobs[k].kind == KnobKind::kCatalogue) {
+        values[knobs[k].effect][knobs[k].parameter] = x[k];
+      } else {
+        apply_knob(knobs[k], x[k], v);
+      }
+    }
+    for (std::size_t e = 0; e < ids.size(); ++e) apply_effect(ids[e], values[e], v);
+    return v;
+  };
+  std::vector<double> x0;
+  for (const Knob& k : knobs) x0.push_back(k.nominal);
+  fit.variant.emplace(variant_at(x0));
+  if (knobs.empty()) return fit;
+  fit.train_error_before = problem.training_error(problem.evaluate(nominal, true));
+  const optimize::ResidualFunction residuals =
+      [&](std::span<const double> x) -> std::optional<std::vector<double>> {
+    try {
+      return problem.training_residuals(problem.evaluate(variant_at(x), true));
+    } catch (const std::exception&) {  // an unphysical corner of the box (an anchor inside the wrist)
+      return std::nullopt;
+    }
+  };
+  optimize::LeastSquaresSettings settings{.max_evaluations = options.tolerance_evaluations, .jobs = options.jobs};
+  for (const Knob& k : knobs) {
+    settings.lower.push_back(k.low);
+    settings.upper.push_back(k.high);
+    settings.cheap.push_back(k.cheap);
+  }
+  const optimize::LeastSquaresResult found = optimize::minimize_least_squares(residuals, x0, settings);
+  fit.evaluations = found.evaluations;
+  fit.train_error_after = std::min(found.cost, fit.train_error_before);
+  const std::vector<double>& x = found.cost <= fit.train_error_before ? found.x : x0;
+  fit.variant.emplace(variant_at(x));
+  report_knobs(knobs, x, fit);
+  return fit;
+}
+
+}  // namespace softwrist::diagnosis

@@ -1,0 +1,200 @@
+#include "optimize/bounded_least_squares.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace softwrist::optimize {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+void check_settings(const std::vector<double>& start, const LeastSquaresSettings& s) {
+  const std::size_t n = start.size();
+  if (n == 0) throw std::invalid_argument("least squares: no parameters");
+  if (s.lower.size() != n || s.upper.size() != n) {
+    throw std::invalid_argument("least squares: bounds must have one entry per parameter");
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(s.lower[k] < s.upper[k])) {
+      throw std::invalid_argument("least squares: lower bound " + std::to_string(k) + " is not below its upper");
+    }
+  }
+  if (!s.cheap.empty() && s.cheap.size() != n) throw std::invalid_argument("least squares: cheap must have n entries");
+  if (!(s.difference_step > 0.0 && s.difference_step < 0.5)) {
+    throw std::invalid_argument("least squares: difference_step must lie in (0, 0.5)");
+  }
+  if (s.max_evaluations < 1 || s.jobs < 1) throw std::invalid_argument("least squares: budget and jobs must be >= 1");
+}
+
+VectorXd to_vector(const std::vector<double>& v) { return Eigen::Map<const VectorXd>(v.data(), std::ssize(v)); }
+
+// The damped Gauss-Newton step d from x, with parameters that would leave [lower, upper] held at the bound.
+VectorXd damped_step(const MatrixXd& H, const VectorXd& g, double lambda, const VectorXd& x, const VectorXd& lower,
+                     const VectorXd& upper) {
+  const Eigen::Index n = x.size();
+  const double floor = 1e-6 * std::max(H.diagonal().maxCoeff(), 0.0) + 1e-12;
+  std::vector<bool> fixed(static_cast<std::size_t>(n), false);
+  VectorXd d = VectorXd::Zero(n);
+  for (Eigen::Index pass = 0; pass <= n; ++pass) {
+    std::vector<Eigen::Index> free;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      if (!fixed[static_cast<std::size_t>(k)]) free.push_back(k);
+    }
+    if (free.empty()) break;
+    const Eigen::Index m = std::ssize(free);
+    MatrixXd A(m, m);
+    VectorXd b(m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      b[i] = -g[free[i]];
+      for (Eigen::Index k = 0; k < n; ++k) {
+        if (fixed[static_cast<std::size_t>(k)]) b[i] -= H(free[i], k) * d[k];
+      }
+      for (Eigen::Index j = 0; j < m; ++j) A(i, j) = H(free[i], free[j]);
+      A(i, i) += lambda * (H(free[i], free[i]) + floor);
+    }
+    const VectorXd df = A.ldlt().solve(b);
+    bool violated = false;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Eigen::Index k = free[i];
+      d[k] = df[i];
+      if (x[k] + d[k] > upper[k] || x[k] + d[k] < lower[k]) {
+        d[k] = std::clamp(x[k] + d[k], lower[k], upper[k]) - x[k];
+        fixed[static_cast<std::size_t>(k)] = violated = true;
+      }
+    }
+    if (!violated) break;
+  }
+  return d;
+}
+
+class Solver {
+ public:
+  Solver(const ResidualFunction& f, const LeastSquaresSettings& s) : f_(f), s_(s) {}
+
+  std::optional<VectorXd> evaluate(const VectorXd& x) {
+    ++evaluations_;
+    const auto r = f_(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    if (!r) return std::nullopt;
+    VectorXd v = to_vector(*r);
+    if (!v.allFinite()) return std::nullopt;
+    return v;
+  }
+
+  // Forward differences, stepping inwards at an upper bound and the other way where a step is infeasible. A
+  // direction found infeasible is fenced: the next step holds that parameter where it is (`lower`, `upper` narrowed).
+  MatrixXd jacobian(const VectorXd& x, const VectorXd& r, VectorXd& lower, VectorXd& upper) {
+    const Eigen::Index n = x.size();
+    MatrixXd J = MatrixXd::Zero(r.size(), n);
+    lower = to_vector(s_.lower);
+    upper = to_vector(s_.upper);
+    const auto column = [&](Eigen::Index k) {
+      const double h = s_.difference_step * (s_.upper[k] - s_.lower[k]);
+      for (double sign : {x[k] + h <= s_.upper[k] ? 1.0 : -1.0, x[k] + h <= s_.upper[k] ? -1.0 : 1.0}) {
+        VectorXd xk = x;
+        xk[k] = std::clamp(x[k] + sign * h, s_.lower[k], s_.upper[k]);
+        if (xk[k] == x[k]) continue;
+        const auto rk = evaluate(xk);
+        if (!rk || rk->size() != r.size()) {
+          (sign > 0.0 ? upper : lower)[k] = x[k];
+          continue;
+        }
+        J.col(k) = (*rk - r) / (xk[k] - x[k]);
+        return;
+      }
+    };
+    std::vector<Eigen::Index> expensive;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      if (!s_.cheap.empty() && s_.cheap[k]) {
+        column(k);
+      } else {
+        expensive.push_back(k);
+      }
+    }
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto work = [&] {
+      for (std::size_t i = next++; i < expensive.size(); i = next++) {
+        try {
+          column(expensive[i]);
+        } catch (...) {
+          const std::lock_guard lock(failure_mutex);
+          if (!failure) failure = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> threads;
+    for (int j = 1; j < std::min<int>(s_.jobs, static_cast<int>(expensive.size())); ++j) threads.emplace_back(work);
+    work();
+    for (auto& t : threads) t.join();
+    if (failure) std::rethrow_exception(failure);
+    return J;
+  }
+
+  int evaluations() const { return evaluations_; }
+
+ private:
+  const ResidualFunction& f_;
+  const LeastSquaresSettings& s_;
+  std::atomic<int> evaluations_{0};
+};
+
+}  // namespace
+
+LeastSquaresResult minimize_least_squares(const ResidualFunction& residuals, std::vector<double> start,
+                                          const LeastSquaresSettings& settings) {
+  check_settings(start, settings);
+  Solver solver(residuals, settings);
+  const Eigen::Index n = std::ssize(start);
+  VectorXd x(n);
+  for (Eigen::Index k = 0; k < n; ++k) x[k] = std::clamp(start[k], settings.lower[k], settings.upper[k]);
+  const auto r0 = solver.evaluate(x);
+  if (!r0) throw std::runtime_error("least squares: the start is infeasible");
+  VectorXd r = *r0;
+  double cost = r.squaredNorm();
+  double lambda = 1e-3;
+  int iterations = 0;
+  while (solver.evaluations() + n + 1 <= settings.max_evaluations) {
+    VectorXd lower, upper;
+    const MatrixXd jacobian = solver.jacobian(x, r, lower, upper);
+    ++iterations;
+    const MatrixXd H = jacobian.transpose() * jacobian;
+    const VectorXd g = jacobian.transpose() * r;
+    double decrease = -1.0;
+    while (solver.evaluations() < settings.max_evaluations && lambda < 1e8) {
+      VectorXd d = damped_step(H, g, lambda, x, lower, upper);
+      if (d.lpNorm<Eigen::Infinity>() < 1e-12) break;
+      // An infeasible trial point is backed off along the step (halved up to three times); a worse one raises the
+      // damping.
+      std::optional<VectorXd> rn;
+      for (int halving = 0; halving < 4 && solver.evaluations() < settings.max_evaluations; ++halving, d *= 0.5) {
+        rn = solver.evaluate(x + d);
+        if (rn) break;
+      }
+      if (rn && rn->size() == r.size() && rn->squaredNorm() < cost) {
+        decrease = (cost - rn->squaredNorm()) / cost;
+        x += d;
+        r = *rn;
+        cost = r.squaredNorm();
+        lambda = std::max(lambda / 5.0, 1e-9);
+        break;
+      }
+      lambda *= 5.0;
+    }
+    if (decrease < settings.cost_tolerance_rel) break;  // no step lowered the cost, or too little to go on
+  }
+  return {.x = std::vector<double>(x.data(), x.data() + n),
+          .cost = cost,
+          .evaluations = solver.evaluations(),
+          .iterations = iterations};
+}
+
+}  // namespace softwrist::optimize

@@ -1,0 +1,45 @@
+#pragma once
+// Bounded nonlinear least squares: Levenberg-Marquardt on a finite-difference Jacobian, with the bounds kept by an
+// active set (a parameter whose step would leave its box is held at the bound and the step is solved again for the
+// rest). For residuals that cost a simulation each, where the derivative-free searches (bounded_search.h) spend
+// 2n+1 evaluations only to build their first model: here one Jacobian costs n, and its columns are independent, so
+// they are evaluated on `jobs` threads.
+//
+// The residual function may be called from several threads at once. It returns std::nullopt where the parameters are
+// infeasible (a failed simulation): a Jacobian column then takes the step the other way, and a trial step there is
+// rejected like one that does not decrease the cost, and the next step holds the parameter whose difference was
+// infeasible where it is.
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace softwrist::optimize {
+
+using ResidualFunction = std::function<std::optional<std::vector<double>>(std::span<const double> x)>;
+
+struct LeastSquaresSettings {
+  std::vector<double> lower, upper;  // bounds, one per parameter (lower < upper)
+  double difference_step = 0.02;     // forward-difference step, as a fraction of each box's width
+  int max_evaluations = 100;         // residual evaluations, the Jacobians' included
+  int jobs = 1;                      // threads for a Jacobian's columns
+  double cost_tolerance_rel = 1e-4;  // stop when an accepted step lowers the cost by less than this fraction
+  // Parameters whose Jacobian columns are cheap to evaluate right after the point itself (a caller's cache keeps
+  // what they do not change): evaluated first, on the calling thread.
+  std::vector<bool> cheap;
+};
+
+struct LeastSquaresResult {
+  std::vector<double> x;  // the best point evaluated
+  double cost = 0.0;      // sum of squared residuals there
+  int evaluations = 0;
+  int iterations = 0;  // Jacobians computed
+};
+
+// Minimises the sum of squared residuals from `start` (clamped into the bounds). Throws std::invalid_argument for
+// inconsistent settings and std::runtime_error when the start itself is infeasible.
+LeastSquaresResult minimize_least_squares(const ResidualFunction& residuals, std::vector<double> start,
+                                          const LeastSquaresSettings& settings);
+
+}  // namespace softwrist::optimize

@@ -1,0 +1,71 @@
+#include "optimize/bounded_least_squares.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+
+namespace softwrist::optimize {
+namespace {
+
+LeastSquaresSettings box(std::vector<double> lower, std::vector<double> upper, int budget = 200, int jobs = 1) {
+  return {.lower = std::move(lower), .upper = std::move(upper), .max_evaluations = budget, .jobs = jobs};
+}
+
+// Rosenbrock's function as residuals (10 (y - x^2), 1 - x): minimum 0 at (1, 1), a curved valley.
+std::optional<std::vector<double>> rosenbrock(std::span<const double> p) {
+  return std::vector<double>{10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]};
+}
+
+TEST(BoundedLeastSquares, FindsTheMinimumOfACurvedValley) {
+  const auto result = minimize_least_squares(rosenbrock, {-1.2, 1.0}, box({-2, -2}, {2, 2}));
+  EXPECT_NEAR(result.x[0], 1.0, 1e-4);
+  EXPECT_NEAR(result.x[1], 1.0, 1e-4);
+  EXPECT_LT(result.cost, 1e-8);
+  EXPECT_LE(result.evaluations, 200);
+}
+
+TEST(BoundedLeastSquares, ABoundHoldsTheParameterItWouldPassAndTheOthersStillFit) {
+  // r = (x - 3, y - x): unconstrained (3, 3); with x <= 1 the best is x = 1, y = 1.
+  const auto linear = [](std::span<const double> p) -> std::optional<std::vector<double>> {
+    return std::vector<double>{p[0] - 3.0, p[1] - p[0]};
+  };
+  const auto result = minimize_least_squares(linear, {0.0, 0.0}, box({-1, -5}, {1, 5}));
+  EXPECT_DOUBLE_EQ(result.x[0], 1.0);
+  EXPECT_NEAR(result.x[1], 1.0, 1e-6);
+  EXPECT_NEAR(result.cost, 4.0, 1e-6);
+}
+
+TEST(BoundedLeastSquares, InfeasiblePointsAreSteppedAroundAndColumnsRunOnThreads) {
+  // Infeasible beyond x = 0.5 (a simulation that fails there); the minimum of (x - 2)^2 + (y - 1)^2 within is x = 0.5.
+  std::atomic<int> calls{0};
+  const auto fenced = [&](std::span<const double> p) -> std::optional<std::vector<double>> {
+    ++calls;
+    if (p[0] > 0.5) return std::nullopt;
+    return std::vector<double>{p[0] - 2.0, p[1] - 1.0, 0.1 * p[2]};
+  };
+  const auto result = minimize_least_squares(fenced, {0.0, 0.0, 1.0}, box({-1, -1, -1}, {1, 1, 1}, 200, 2));
+  EXPECT_LE(result.x[0], 0.5);
+  EXPECT_GT(result.x[0], 0.45);
+  EXPECT_NEAR(result.x[1], 1.0, 1e-3);
+  EXPECT_NEAR(result.x[2], 0.0, 1e-3);
+  EXPECT_EQ(result.evaluations, calls.load());
+}
+
+TEST(BoundedLeastSquares, TheBudgetIsKept) {
+  const auto result = minimize_least_squares(rosenbrock, {-1.2, 1.0}, box({-2, -2}, {2, 2}, 7));
+  EXPECT_LE(result.evaluations, 7);
+  EXPECT_LT(result.cost, 24.2);  // below the start's 4.4^2 + 2.2^2
+}
+
+TEST(BoundedLeastSquares, BadSettingsAndAnInfeasibleStartAreErrors) {
+  EXPECT_THROW(minimize_least_squares(rosenbrock, {0.0, 0.0}, box({0}, {1})), std::invalid_argument);
+  EXPECT_THROW(minimize_least_squares(rosenbrock, {0.0, 0.0}, box({0, 1}, {1, 1})), std::invalid_argument);
+  EXPECT_THROW(minimize_least_squares(rosenbrock, {}, box({}, {})), std::invalid_argument);
+  const auto never = [](std::span<const double>) -> std::optional<std::vector<double>> { return std::nullopt; };
+  EXPECT_THROW(minimize_least_squares(never, {0.0}, box({-1}, {1})), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace softwrist::optimize
