@@ -123,6 +123,19 @@ struct Diagnosis {
   double explained_fraction = 0.0;
   // When the verdict names the leading effect of a combination that closes the gap only together: the others.
   std::vector<std::string> also_effects;
+  // When the leading effect, fitted from the nominal as placed, explains less than the verdict needs while the nominal
+  // within its tolerances leaves a gap: the same effect fitted jointly with the tolerances, and the fraction of the
+  // gap beyond them that it closes (held out, in the gap trials of the kinds it acts on). A device differs from its
+  // placement file within its tolerances and has an effect besides; fitted from the file alone, the effect cannot
+  // close the part that is the tolerances'.
+  struct BeyondTolerance {
+    std::string effect;
+    std::vector<std::pair<std::string, double>> params;
+    double heldout_error_within = 0.0, heldout_error_with_effect = 0.0;
+    double explained_fraction = 0.0;
+    int evaluations = 0;
+  };
+  std::optional<BeyondTolerance> beyond_tolerance;
   std::vector<TrialGap> trials;
   ToleranceFit tolerance;  // the nominal within its tolerances: what decides which trials have a gap
   std::vector<LocalizationEntry> localization;

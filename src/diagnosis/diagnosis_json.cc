@@ -27,6 +27,18 @@ nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
           {"evaluations", tolerance.evaluations}};
 }
 
+// The leading effect fitted jointly with the tolerances, and what it closes beyond them.
+nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b) {
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& [name, value] : b.params) params[name] = value;
+  return {{"effect", b.effect},
+          {"params", params},
+          {"heldout_error_within", b.heldout_error_within},
+          {"heldout_error_with_effect", b.heldout_error_with_effect},
+          {"explained_fraction", b.explained_fraction},
+          {"evaluations", b.evaluations}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
@@ -62,6 +74,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
   j["also_effects"] = d.also_effects;
+  if (d.beyond_tolerance) j["beyond_tolerance"] = beyond_tolerance_json(*d.beyond_tolerance);
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));

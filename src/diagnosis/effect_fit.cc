@@ -16,17 +16,9 @@
 namespace softwrist::diagnosis {
 namespace {
 
-// Parameters <-> the unit cube the search runs in (log space where the spec says so).
-double to_unit(const ParameterSpec& p, double v) {
-  return p.log_scale ? std::log(v / p.lower) / std::log(p.upper / p.lower) : (v - p.lower) / (p.upper - p.lower);
-}
-double from_unit(const ParameterSpec& p, double u) {
-  u = std::clamp(u, 0.0, 1.0);
-  return p.log_scale ? p.lower * std::pow(p.upper / p.lower, u) : p.lower + u * (p.upper - p.lower);
-}
 std::vector<double> values_of(const EffectSpec& spec, std::span<const double> u) {
   std::vector<double> v(u.size());
-  for (std::size_t i = 0; i < u.size(); ++i) v[i] = from_unit(spec.parameters[i], u[i]);
+  for (std::size_t i = 0; i < u.size(); ++i) v[i] = spec.parameters[i].from_unit(u[i]);
   return v;
 }
 
@@ -125,7 +117,7 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   };
   const std::vector<double> start = fit_start(id, base.variant.device);
   std::vector<double> start_u(start.size());
-  for (std::size_t i = 0; i < start.size(); ++i) start_u[i] = to_unit(spec.parameters[i], start[i]);
+  for (std::size_t i = 0; i < start.size(); ++i) start_u[i] = spec.parameters[i].to_unit(start[i]);
   const SearchedPoint searched = search_unit_cube(objective, std::move(start_u), options.max_evaluations);
   fit.values = values_of(spec, searched.u);
   fit.params = describe_values(id, fit.values, nominal);

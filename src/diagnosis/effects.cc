@@ -93,6 +93,15 @@ std::optional<EffectId> effect_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+double ParameterSpec::to_unit(double v) const {
+  return log_scale ? std::log(v / lower) / std::log(upper / lower) : (v - lower) / (upper - lower);
+}
+
+double ParameterSpec::from_unit(double u) const {
+  u = std::clamp(u, 0.0, 1.0);
+  return log_scale ? lower * std::pow(upper / lower, u) : lower + u * (upper - lower);
+}
+
 const sim::DeviceDescription& ModelVariant::device_for(const Trial& trial) const {
   if (trial.conventions.placement.empty()) return device;
   const auto it = rigs.find(trial.conventions.placement);

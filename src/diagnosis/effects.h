@@ -26,6 +26,10 @@ struct ParameterSpec {
   double lower = 0.0, upper = 0.0;
   bool log_scale = false;  // searched in log space (stiffnesses spanning decades)
   double neutral = 0.0;    // the value that leaves the nominal model unchanged, where one exists
+
+  // The value <-> the unit interval the fits search in (log space where log_scale); from_unit clamps into [0, 1].
+  double to_unit(double value) const;
+  double from_unit(double u) const;
 };
 
 struct EffectSpec {

@@ -45,6 +45,7 @@ class GapProblem {
 
   // The trials the held-out error is taken over from now on (the verdict: those with a gap beyond the tolerances).
   void set_scored(std::vector<bool> scored) { scored_ = std::move(scored); }
+  bool scored(std::size_t trial) const { return scored_.empty() || scored_[trial]; }
 
   std::size_t size() const { return trials_.size(); }
   const std::vector<PreparedTrial>& trials() const { return trials_; }

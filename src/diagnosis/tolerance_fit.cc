@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <map>
+#include <optional>
 #include <set>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,14 +25,14 @@ enum class KnobKind { kCatalogue, kHandAnchorD2, kHandAnchorW2, kRestLength, kLi
 
 struct Knob {
   KnobKind kind;
-  std::string name;             // as reported, in the unit of `nominal`
-  double nominal, low, high;    // the box, in the reported unit
-  double to_si = 1.0;           // reported unit -> the model's
-  std::size_t effect = 0;       // kCatalogue: index into the fit's effects; its parameter
+  std::string name;           // as reported, in the unit of `nominal`
+  double nominal, low, high;  // the box, in the reported unit
+  double to_si = 1.0;         // reported unit -> the model's
+  std::size_t effect = 0;     // kCatalogue: index into the fit's effects; its parameter
   std::size_t parameter = 0;
-  std::filesystem::path rig;    // per rig: its placement file (empty: the diagnosis's --model)
-  std::size_t index = 0;        // the muscle, the limit (flexion, extension, ulnar, radial) or the regulator
-  bool cheap = false;           // changes only how a simulation is read (its replays are cached)
+  std::filesystem::path rig;  // per rig: its placement file (empty: the diagnosis's --model)
+  std::size_t index = 0;      // the muscle, the limit (flexion, extension, ulnar, radial) or the regulator
+  bool cheap = false;         // changes only how a simulation is read (its replays are cached)
 };
 
 // Which muscles each rig's trials use (by their placement file), and whether any uses the wrist's dynamics (range of
@@ -114,12 +118,22 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
     const std::string prefix = fmt::format("monitor.{}", sim::kMuscleNames[m]);
     if (t.monitor_offset > 0.0) {
       const double kpa = units::pa_to_kpa(t.monitor_offset);
-      knobs.push_back({.kind = KnobKind::kMonitorOffset, .name = prefix + ".offset_kpa", .nominal = 0.0, .low = -kpa,
-                       .high = kpa, .to_si = 1e3, .index = m, .cheap = true});
+      knobs.push_back({.kind = KnobKind::kMonitorOffset,
+                       .name = prefix + ".offset_kpa",
+                       .nominal = 0.0,
+                       .low = -kpa,
+                       .high = kpa,
+                       .to_si = 1e3,
+                       .index = m,
+                       .cheap = true});
     }
     if (t.monitor_gain_fraction > 0.0) {
-      knobs.push_back({.kind = KnobKind::kMonitorGain, .name = prefix + ".gain", .nominal = 1.0,
-                       .low = 1.0 - t.monitor_gain_fraction, .high = 1.0 + t.monitor_gain_fraction, .index = m,
+      knobs.push_back({.kind = KnobKind::kMonitorGain,
+                       .name = prefix + ".gain",
+                       .nominal = 1.0,
+                       .low = 1.0 - t.monitor_gain_fraction,
+                       .high = 1.0 + t.monitor_gain_fraction,
+                       .index = m,
                        .cheap = true});
     }
   }
@@ -201,17 +215,15 @@ void report_knobs(const std::vector<Knob>& knobs, const std::vector<double>& x, 
   }
 }
 
-}  // namespace
-
-ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
-                                   const DiagnosisOptions& options) {
-  ToleranceFit fit{.tolerances = options.tolerances};
-  std::vector<EffectId> ids;
-  std::vector<std::vector<double>> start;
+// Every free parameter of the fit, and the model at a point of their boxes.
+struct Setup {
+  std::vector<EffectId> ids;               // catalogue effects with a free tolerance box
+  std::vector<std::vector<double>> start;  // their values at the nominal
   std::vector<Knob> knobs;
-  add_catalogue_knobs(problem, nominal, options.tolerances, ids, start, knobs);
-  add_device_knobs(problem, nominal, options.tolerances, knobs);
-  const auto variant_at = [&](std::span<const double> x) {
+
+  // With `without`, that effect's own catalogue parameters stay at the nominal.
+  ModelVariant variant_at(const ModelVariant& nominal, std::span<const double> x,
+                          std::optional<EffectId> without = std::nullopt) const {
     ModelVariant v = nominal;
     std::vector<std::vector<double>> values = start;
     for (std::size_t k = 0; k < knobs.size(); ++k) {
@@ -221,34 +233,100 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
         apply_knob(knobs[k], x[k], v);
       }
     }
-    for (std::size_t e = 0; e < ids.size(); ++e) apply_effect(ids[e], values[e], v);
+    for (std::size_t e = 0; e < ids.size(); ++e) {
+      if (ids[e] != without) apply_effect(ids[e], values[e], v);
+    }
     return v;
-  };
-  std::vector<double> x0;
-  for (const Knob& k : knobs) x0.push_back(k.nominal);
-  fit.variant.emplace(variant_at(x0));
-  if (knobs.empty()) return fit;
-  fit.train_error_before = problem.training_error(problem.evaluate(nominal, true));
-  const optimize::ResidualFunction residuals =
-      [&](std::span<const double> x) -> std::optional<std::vector<double>> {
+  }
+};
+
+Setup setup_of(const GapProblem& problem, const ModelVariant& nominal, const Tolerances& tolerances) {
+  Setup s;
+  add_catalogue_knobs(problem, nominal, tolerances, s.ids, s.start, s.knobs);
+  add_device_knobs(problem, nominal, tolerances, s.knobs);
+  return s;
+}
+
+// The training residuals of the model a point gives; none where the model cannot be built or replayed (an
+// unphysical corner of a box, an anchor inside the wrist).
+optimize::ResidualFunction residuals_of(const GapProblem& problem,
+                                        std::function<ModelVariant(std::span<const double>)> model_at) {
+  return [&problem, model_at](std::span<const double> x) -> std::optional<std::vector<double>> {
     try {
-      return problem.training_residuals(problem.evaluate(variant_at(x), true));
-    } catch (const std::exception&) {  // an unphysical corner of the box (an anchor inside the wrist)
+      return problem.training_residuals(problem.evaluate(model_at(x), true));
+    } catch (const std::exception&) {
       return std::nullopt;
     }
   };
+}
+
+optimize::LeastSquaresSettings settings_of(const std::vector<Knob>& knobs, const DiagnosisOptions& options) {
   optimize::LeastSquaresSettings settings{.max_evaluations = options.tolerance_evaluations, .jobs = options.jobs};
   for (const Knob& k : knobs) {
     settings.lower.push_back(k.low);
     settings.upper.push_back(k.high);
     settings.cheap.push_back(k.cheap);
   }
-  const optimize::LeastSquaresResult found = optimize::minimize_least_squares(residuals, x0, settings);
+  return settings;
+}
+
+}  // namespace
+
+ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
+                                   const DiagnosisOptions& options) {
+  ToleranceFit fit{.tolerances = options.tolerances};
+  const Setup setup = setup_of(problem, nominal, options.tolerances);
+  std::vector<double> x0;
+  for (const Knob& k : setup.knobs) x0.push_back(k.nominal);
+  fit.variant.emplace(setup.variant_at(nominal, x0));
+  if (setup.knobs.empty()) return fit;
+  fit.train_error_before = problem.training_error(problem.evaluate(nominal, true));
+  const optimize::LeastSquaresResult found = optimize::minimize_least_squares(
+      residuals_of(problem, [&](std::span<const double> x) { return setup.variant_at(nominal, x); }), x0,
+      settings_of(setup.knobs, options));
   fit.evaluations = found.evaluations;
   fit.train_error_after = std::min(found.cost, fit.train_error_before);
   const std::vector<double>& x = found.cost <= fit.train_error_before ? found.x : x0;
-  fit.variant.emplace(variant_at(x));
-  report_knobs(knobs, x, fit);
+  fit.variant.emplace(setup.variant_at(nominal, x));
+  report_knobs(setup.knobs, x, fit);
+  return fit;
+}
+
+JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
+                                      const DiagnosisOptions& options, const ToleranceFit& within, EffectId id,
+                                      std::span<const double> start) {
+  const Setup setup = setup_of(problem, nominal, options.tolerances);
+  if (setup.knobs.size() != within.params.size()) throw std::logic_error("the tolerance fit is not of these data");
+  // The tolerances from where their fit ended (the effect's own at the nominal), then the effect's parameters in
+  // the unit interval of its catalogue range, from its fit from the nominal as placed.
+  const EffectSpec& spec = effect_spec(id);
+  std::vector<double> x0;
+  optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
+  for (std::size_t k = 0; k < setup.knobs.size(); ++k) {
+    const Knob& knob = setup.knobs[k];
+    const bool own = knob.kind == KnobKind::kCatalogue && setup.ids[knob.effect] == id;
+    x0.push_back(own ? knob.nominal : within.params[k].second);
+    if (own) settings.lower[k] = settings.upper[k] = knob.nominal;  // held (bounds equal: not searched)
+  }
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+    x0.push_back(spec.parameters[i].to_unit(start[i]));
+    settings.lower.push_back(0.0);
+    settings.upper.push_back(1.0);
+    settings.cheap.push_back(false);
+  }
+  const std::size_t n = setup.knobs.size();
+  const auto model_at = [&](std::span<const double> x) {
+    ModelVariant v = setup.variant_at(nominal, x.first(n), id);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < spec.parameters.size(); ++i) values.push_back(spec.parameters[i].from_unit(x[n + i]));
+    apply_effect(id, values, v);
+    return v;
+  };
+  const optimize::LeastSquaresResult found =
+      optimize::minimize_least_squares(residuals_of(problem, model_at), x0, settings);
+  JointFit fit{.variant = model_at(found.x), .values = {}, .evaluations = found.evaluations};
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
+    fit.values.push_back(spec.parameters[i].from_unit(found.x[n + i]));
   return fit;
 }
 

@@ -5,6 +5,9 @@
 // passive range, each pressure monitor's offset and gain), all at once by bounded least squares
 // (optimize/bounded_least_squares.h) from the nominal as placed. Internal to src/diagnosis.
 
+#include <span>
+#include <vector>
+
 #include "diagnosis/diagnosis.h"
 #include "diagnosis/gap_problem.h"
 
@@ -12,5 +15,18 @@ namespace softwrist::diagnosis {
 
 ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
                                    const DiagnosisOptions& options);
+
+// Effect `id` on top of the nominal within its tolerances, fitted jointly with them by the same least squares, from
+// where the tolerance fit `within` ended and from `start` (the effect's values fitted from the nominal as placed).
+// The effect's own tolerance parameters stay at the nominal: it takes its whole value, and its values are not shared
+// with a tolerance that says the same. What an effect closes beyond the tolerances (Diagnosis::beyond_tolerance).
+struct JointFit {
+  ModelVariant variant;
+  std::vector<double> values;  // the effect's, in its spec's units
+  int evaluations = 0;
+};
+JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
+                                      const DiagnosisOptions& options, const ToleranceFit& within, EffectId id,
+                                      std::span<const double> start);
 
 }  // namespace softwrist::diagnosis

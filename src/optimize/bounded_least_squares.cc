@@ -23,8 +23,8 @@ void check_settings(const std::vector<double>& start, const LeastSquaresSettings
     throw std::invalid_argument("least squares: bounds must have one entry per parameter");
   }
   for (std::size_t k = 0; k < n; ++k) {
-    if (!(s.lower[k] < s.upper[k])) {
-      throw std::invalid_argument("least squares: lower bound " + std::to_string(k) + " is not below its upper");
+    if (!(s.lower[k] <= s.upper[k])) {
+      throw std::invalid_argument("least squares: lower bound " + std::to_string(k) + " is above its upper");
     }
   }
   if (!s.cheap.empty() && s.cheap.size() != n) throw std::invalid_argument("least squares: cheap must have n entries");

@@ -20,7 +20,7 @@ namespace softwrist::optimize {
 using ResidualFunction = std::function<std::optional<std::vector<double>>(std::span<const double> x)>;
 
 struct LeastSquaresSettings {
-  std::vector<double> lower, upper;  // bounds, one per parameter (lower < upper)
+  std::vector<double> lower, upper;  // bounds, one per parameter (lower <= upper; equal bounds hold it)
   double difference_step = 0.02;     // forward-difference step, as a fraction of each box's width
   int max_evaluations = 100;         // residual evaluations, the Jacobians' included
   int jobs = 1;                      // threads for a Jacobian's columns

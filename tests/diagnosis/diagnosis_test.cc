@@ -151,6 +151,26 @@ TEST_F(DiagnosisTest, AVariationWithinTheTolerancesIsNone) {
   EXPECT_TRUE(exact.tolerance.params.empty());
 }
 
+// Each muscle has its own tolerances (tolerance.h): the ulnar muscle's hand anchor 2 mm nearer the wrist (of Table
+// RoM's d2 = 1 cm) shows as placed, is within them (no factor shared by the muscles could say so), and the fit finds
+// it.
+TEST_F(DiagnosisTest, OneMusclesAnchorWithinItsToleranceIsNone) {
+  sim::DeviceDescription device = paper_device();
+  SyntheticDevice real{.device = device};
+  real.device.muscles[sim::kUlnar].placement.d2 -= 0.002;
+  write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
+  const Diagnosis exact =
+      diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100, .tolerances = Tolerances::none()});
+  ASSERT_NE(exact.verdict, "none") << "the shifted anchor must show as placed: " << exact.reason;
+  const Diagnosis within = diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100});
+  EXPECT_EQ(within.verdict, "none") << within.reason;
+  std::map<std::string, double> fitted(within.tolerance.params.begin(), within.tolerance.params.end());
+  const double d2_cm = 100.0 * device.muscles[sim::kUlnar].placement.d2;
+  // Within 1 mm: the anchor's d2 trades with its w2 and the muscle's L0, which the data tell apart only partly.
+  EXPECT_NEAR(fitted.at("model.ulnar.d2_cm"), d2_cm - 0.2, 0.1);
+  EXPECT_NEAR(fitted.at("model.flexor.d2_cm"), 100.0 * device.muscles[sim::kFlexor].placement.d2, 0.05);
+}
+
 // Beyond its tolerance an effect is still named, with its whole value: the effects are fitted from the nominal as
 // placed; the tolerances only decide which trials have a gap.
 TEST_F(DiagnosisTest, BeyondItsToleranceAnEffectIsNamedWithItsWholeValue) {
