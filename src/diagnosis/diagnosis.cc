@@ -322,8 +322,7 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
     d.verdict = d.leading_effect;
     d.reason = fmt::format(
         "{} explains {:.0f} % of the held-out gap beyond the nominal's tolerances when fitted with them ({:.0f} % "
-        "fitted "
-        "from the nominal as placed){}; {}",
+        "fitted from the nominal as placed){}; {}",
         d.leading_effect, 100.0 * d.beyond_tolerance->explained_fraction, 100.0 * d.explained_fraction,
         tolerance_note(d), remaining_gaps(d));
   } else if (d.combination.size() >= 2 && d.gap_closed() >= options.explained_fraction &&

@@ -18,7 +18,7 @@ struct Field {
   double below;
   const char* range;  // why `below`
 };
-constexpr double kMm = 1e-3, kDeg = 0.017453292519943295, kKpa = 1e3;
+constexpr double kMm = 1e-3, kDeg = units::deg_to_rad(1.0), kKpa = units::kpa_to_pa(1.0);
 constexpr Field kFields[] = {
     {"r0_fraction", &Tolerances::r0_fraction, 1.0, 1.0, "a fraction"},
     {"eps_max", &Tolerances::eps_max, 1.0, 0.08, "the fit's range"},

@@ -41,10 +41,10 @@ struct Tolerances {
   // Table RoM's biological range is the user's voluntary (active) range; a relaxed wrist moved by the exosuit can go
   // past it, a joint's passive range exceeding its active one (Norkin & White, Measurement of Joint Motion): each
   // limit may lie up to this much beyond the placement file's (assumed 15 deg).
-  double passive_range_margin = 0.2617993877991494;  // [rad]
+  double passive_range_margin = units::deg_to_rad(15.0);  // [rad]
   // Each regulator's pressure monitor: its offset and gain, calibrated against a reference gauge (assumed 0.5 kPa
   // and 1 %; the regulators' own accuracy is a fraction of a percent of full scale).
-  double monitor_offset = 500.0;  // [Pa]
+  double monitor_offset = units::kpa_to_pa(0.5);  // [Pa]
   double monitor_gain_fraction = 0.01;
 
   static Tolerances none() { return {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}; }

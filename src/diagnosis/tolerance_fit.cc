@@ -76,7 +76,7 @@ std::string rig_name(const std::filesystem::path& rig) { return rig.empty() ? "m
 void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, const Tolerances& t,
                       std::vector<Knob>& knobs) {
   const Usage usage = usage_of(problem);
-  constexpr double kCm = 0.01;
+  constexpr double kCm = units::cm_to_m(1.0);
   for (const auto& [rig, muscles] : usage.muscles) {
     const sim::DeviceDescription& device = rig.empty() ? nominal.device : nominal.rigs.at(rig);
     for (std::size_t m : muscles) {
@@ -123,7 +123,7 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
                        .nominal = 0.0,
                        .low = -kpa,
                        .high = kpa,
-                       .to_si = 1e3,
+                       .to_si = units::kpa_to_pa(1.0),
                        .index = m,
                        .cheap = true});
     }
@@ -315,19 +315,19 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
     settings.cheap.push_back(false);
   }
   const std::size_t n = setup.knobs.size();
-  const auto model_at = [&](std::span<const double> x) {
-    ModelVariant v = setup.variant_at(nominal, x.first(n), id);
+  const auto values_at = [&](std::span<const double> x) {
     std::vector<double> values;
     for (std::size_t i = 0; i < spec.parameters.size(); ++i) values.push_back(spec.parameters[i].from_unit(x[n + i]));
-    apply_effect(id, values, v);
+    return values;
+  };
+  const auto model_at = [&](std::span<const double> x) {
+    ModelVariant v = setup.variant_at(nominal, x.first(n), id);
+    apply_effect(id, values_at(x), v);
     return v;
   };
   const optimize::LeastSquaresResult found =
       optimize::minimize_least_squares(residuals_of(problem, model_at), x0, settings);
-  JointFit fit{.variant = model_at(found.x), .values = {}, .evaluations = found.evaluations};
-  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
-    fit.values.push_back(spec.parameters[i].from_unit(found.x[n + i]));
-  return fit;
+  return {.variant = model_at(found.x), .values = values_at(found.x), .evaluations = found.evaluations};
 }
 
 }  // namespace softwrist::diagnosis
