@@ -77,7 +77,8 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
                       std::vector<Knob>& knobs) {
   const Usage usage = usage_of(problem);
   constexpr double kCm = units::cm_to_m(1.0);
-  for (const auto& [rig, muscles] : usage.muscles) {
+  for (const auto& [rig_path, muscles] : usage.muscles) {
+    const std::filesystem::path& rig = rig_path;  // a lambda cannot capture a structured binding before C++20
     const sim::DeviceDescription& device = rig.empty() ? nominal.device : nominal.rigs.at(rig);
     for (std::size_t m : muscles) {
       const sim::MuscleMount& mount = device.muscles[m];
