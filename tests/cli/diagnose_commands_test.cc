@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/run_cli_for_test.h"
+#include "support/end_to_end_test.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::cli {
@@ -138,6 +139,7 @@ TEST_F(CliDiagnose, GenerateWritesTheIndependentDevicesDataSet) {
 // is empty) and merged; the run is scored and nothing failed. (That merged shards give the same figures as one run
 // is tested on the runs themselves, independent_benchmark_test: a diagnosis of this data set takes minutes.)
 TEST_F(CliDiagnose, IndependentBenchmarkRunsShardsAndMerges) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const std::vector<std::string> bench = {
       "diagnose-bench", "--generator", "independent", "--forms", "none",         "--no-pairs", "--seeds", "1",
       "--trajectory-s", "4",           "--prototype", prototype, "--torque-rig", torque_rig,   "--jobs",  "1"};

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/device.h"
+#include "support/end_to_end_test.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::diagnosis {
@@ -38,6 +39,7 @@ using BenchmarkTest = testing::ScratchDirTest;
 
 // One seed per case, 12 s trajectories, two repetitions: the targets hold at this size too.
 TEST_F(BenchmarkTest, FixedSeedsMeetTheTargets) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   BenchOptions options{.seeds = 1, .first_seed = 1, .jobs = 2, .scratch = dir_};
   options.plan.trajectory_s = 12.0;
   options.diagnosis.bootstrap = 50;

@@ -1,0 +1,16 @@
+#pragma once
+// End-to-end diagnoses: each synthesizes a data set and diagnoses it with every effect and the tolerance fit, 15 s to
+// 2 min in the normal build and five to eight times that under AddressSanitizer, where together they made the
+// sanitizer stage of CI over half an hour. The sanitizer build skips them (reported as skipped, with this reason);
+// scripts/test.sh runs them in the normal build, and CI runs both. The diagnosis's code stays under the sanitizers
+// through its shorter tests (NoEffectGivesNone, MeasuredPressuresTellRegulatorDeadTimeFromImuLatency, the CLI's
+// synthesize-import-diagnose-report test, the localisation, tolerance and conventions tests).
+
+#include <gtest/gtest.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS() \
+  GTEST_SKIP() << "an end-to-end diagnosis: run in the normal build (bash scripts/test.sh), not under the sanitizers"
+#else
+#define SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS() static_cast<void>(0)
+#endif
