@@ -28,6 +28,7 @@ if [ "${1:-}" = "--tests" ]; then
     gcc-avr binutils-avr avr-libc arduino-core-avr  # the Arduino Uno firmware, compiled so that it cannot rot
     clang-14 libclang-rt-14-dev   # the fuzz targets: libFuzzer with ASan + UBSan (scripts/fuzz.sh)
     clang-format-14               # the C++ style check (scripts/check_format.sh)
+    slurmctld slurmd slurm-client munge  # a one-node Slurm for the cluster scripts' test (scripts/slurm/selftest.sh)
   )
 elif [ -n "${1:-}" ]; then
   echo "usage: $0 [--tests]" >&2
