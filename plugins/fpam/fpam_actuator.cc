@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "physics/fpam_force.h"
+#include "physics/fpam_hysteresis.h"
 #include "physics/units.h"
 
 namespace softwrist::plugin {
@@ -20,12 +21,19 @@ double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) co
   return (std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa) - regulated_kpa) / config_.time_constant;
 }
 
-double FpamActuator::Force(double tendon_length, double regulated_kpa) const {
+double FpamActuator::Force(double tendon_length, double regulated_kpa, double branch) const {
   if (!std::isfinite(tendon_length) || !std::isfinite(regulated_kpa) || tendon_length < 0.0) return 0.0;
   const physics::MuscleLaw& law = config_.law;
   const double pressure = units::kpa_to_pa(std::clamp(regulated_kpa, 0.0, config_.max_pressure_kpa));
   const physics::FpamForceLaw force_law(pressure, law.fpam.at_pressure(pressure), law.fpam.fabric());
-  return physics::stretched_force(law, force_law, tendon_length).force;  // validated in FromConfig
+  const double force = physics::stretched_force(law, force_law, tendon_length).force;  // validated in FromConfig
+  if (!config_.hysteresis.active() || !std::isfinite(branch)) return force;
+  return physics::hysteretic_force(config_.hysteresis, force, branch);
+}
+
+double FpamActuator::BranchRate(double branch, double tendon_velocity) const {
+  if (!config_.hysteresis.active() || !std::isfinite(branch) || !std::isfinite(tendon_velocity)) return 0.0;
+  return physics::hysteresis_state_rate(config_.hysteresis, branch, tendon_velocity);
 }
 
 }  // namespace softwrist::plugin

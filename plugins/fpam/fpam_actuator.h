@@ -31,9 +31,13 @@ class FpamActuator {
 
   // Regulator dynamics: d(regulated)/dt [kPa/s] towards the commanded pressure clamped to [0, max].
   double PressureRate(double commanded_kpa, double regulated_kpa) const;
-  // The fPAM's pull [N] at the tendon's length [m] and the regulated pressure [kPa] (clamped to [0, max]); 0 for a
-  // non-finite input (a diverged simulation must not throw through MuJoCo's C code).
-  double Force(double tendon_length, double regulated_kpa) const;
+  // The fPAM's pull [N] at the tendon's length [m] and the regulated pressure [kPa] (clamped to [0, max]), on the
+  // hysteresis branch `branch` (physics/fpam_hysteresis.h; ignored without hysteresis); 0 for a non-finite input (a
+  // diverged simulation must not throw through MuJoCo's C code).
+  double Force(double tendon_length, double regulated_kpa, double branch = 0.0) const;
+  // Dahl's rate ds/dt [1/s] of the hysteresis branch at the tendon's length rate [m/s]; 0 without hysteresis or for a
+  // non-finite input.
+  double BranchRate(double branch, double tendon_velocity) const;
 
   const FpamConfig& config() const { return config_; }
 

@@ -169,6 +169,10 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
                      result.time_constant <= physics::plausible::kMaxTimeConstant)) {
     read.Fail(kTimeConstant, "must lie in [0.001, 100] (s; MuJoCo integrates the regulator in 1 ms steps)");
   }
+  result.hysteresis.fraction = read.Number(kHysteresis, 0.0);
+  if (read.ok() && !(result.hysteresis.fraction >= 0.0 && result.hysteresis.fraction < 0.5))
+    read.Fail(kHysteresis, "must be >= 0 and < 0.5");
+  result.hysteresis.transition_length = read.Positive(kHysteresisLength, result.hysteresis.transition_length);
   if (!read.ok()) return std::nullopt;
   return result;
 }
@@ -197,6 +201,10 @@ std::string FpamConfig::ToText() const {
                         law.mount_stiffness.hand);
   }
   text += fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, time_constant);
+  if (hysteresis.active()) {
+    text += fmt::format(" {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction, kHysteresisLength,
+                        hysteresis.transition_length);
+  }
   return text;
 }
 

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "physics/exosuit_layout.h"
+#include "physics/fpam_hysteresis.h"
 #include "physics/muscle_law.h"
 #include "plugin_config.h"
 
@@ -33,20 +34,31 @@ struct FpamConfig {
   static constexpr std::string_view kHandStiffness = "K2";                     // [N/m^2], |K2| used
   static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";      // default 137
   static constexpr std::string_view kTimeConstant = "time_constant";           // regulator [s], default 0.1
-  static constexpr std::array<std::string_view, 14> kAttributes = {
-      kRestLength,          kRadius,         kMaxContraction, kTablePressureKpa, kTableRadius,
-      kTableMaxContraction, kElasticModulus, kThickness,      kElasticOnset,     kStretch,
-      kForearmStiffness,    kHandStiffness,  kMaxPressureKpa, kTimeConstant};
+  static constexpr std::string_view kHysteresis = "hysteresis";                // h, default 0 (none)
+  static constexpr std::string_view kHysteresisLength = "hysteresis_length";   // l_h [m], default 0.002
+  static constexpr std::array<std::string_view, 16> kAttributes = {
+      kRestLength,     kRadius,       kMaxContraction, kTablePressureKpa, kTableRadius,      kTableMaxContraction,
+      kElasticModulus, kThickness,    kElasticOnset,   kStretch,          kForearmStiffness, kHandStiffness,
+      kMaxPressureKpa, kTimeConstant, kHysteresis,     kHysteresisLength};
+
+  // A muscle with hysteresis (physics/fpam_hysteresis.h) has a second state, its branch s. MuJoCo 3 would give the
+  // plugin two activations; MuJoCo 2.2.2 gives an actuator one, so the state is the activation of a companion
+  // actuator on the same tendon, named ACTUATOR + kHysteresisStateSuffix, configured as kHysteresisStatePlugin, with
+  // no force of its own. Its activation's rate is Dahl's ds/dt from the tendon's velocity.
+  static constexpr std::string_view kHysteresisStatePlugin = "softwrist.fpam.hysteresis_state";
+  static constexpr std::string_view kHysteresisStateSuffix = "_hysteresis";
 
   physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
   double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;
-  double time_constant = 0.1;  // [s]
+  double time_constant = 0.1;          // [s]
+  physics::FpamHysteresis hysteresis;  // none by default: the paper's static law
 
   // Reads and validates a configuration. On error returns nullopt and sets *error to "actuator 'NAME': attribute
   // 'KEY': problem" (or "actuator 'NAME': problem" for one that concerns several attributes).
   static std::optional<FpamConfig> FromConfig(const PluginConfig& config, std::string_view actuator_name,
                                               std::string* error);
-  // "softwrist.fpam key=value ...": every attribute that applies (K1 and K2 only when the mounts stretch), in
+  // "softwrist.fpam key=value ...": every attribute that applies (K1 and K2 only when the mounts stretch, the
+  // hysteresis only when it is not zero, so that a model without it reads as before), in
   // kAttributes' order, numbers to 10 significant digits.
   std::string ToText() const;
 };

@@ -4,6 +4,8 @@
 //  - mjcb_act_dyn: the regulator, act_dot = (clamp(ctrl) - act) / tau;
 //  - mjcb_act_gain: 0 (the force is not linear in the activation);
 //  - mjcb_act_bias: minus the fPAM's pull at the tendon's length and the regulated pressure (act).
+// A muscle with hysteresis has a companion actuator on its tendon (FpamConfig::kHysteresisStatePlugin) whose act is
+// the hysteresis branch: act_dyn gives Dahl's rate from the tendon's velocity, and its force is 0.
 // This is the only file that sees mjModel/mjData; moving to MuJoCo 3 replaces it with an mjpPlugin registration.
 //
 // Global state: MuJoCo 2.2.2's callbacks are process-wide function pointers, so this file keeps the one registry a
@@ -31,7 +33,14 @@
 namespace softwrist::plugin {
 namespace {
 
-using Instances = std::vector<std::optional<FpamActuator>>;  // indexed by actuator id
+// What each actuator of an attached model is to the plugin (indexed by actuator id): an fPAM (with the id of its
+// hysteresis state's actuator, if any), the hysteresis state of the fPAM `state_of`, or nothing of ours.
+struct Instance {
+  std::optional<FpamActuator> fpam;
+  int state_actuator = -1;
+  int state_of = -1;
+};
+using Instances = std::vector<Instance>;
 
 std::shared_mutex& RegistryMutex() {
   static std::shared_mutex mutex;
@@ -57,7 +66,7 @@ struct ThreadCache {
   std::shared_ptr<const Instances> instances;
 };
 
-const FpamActuator* Find(const mjModel* m, int id) {
+const Instance* Find(const mjModel* m, int id) {
   thread_local ThreadCache cache;
   const std::uint64_t generation = Generation().load(std::memory_order_acquire);
   if (cache.model != m || cache.generation != generation) {
@@ -66,25 +75,28 @@ const FpamActuator* Find(const mjModel* m, int id) {
     cache = {m, Generation().load(std::memory_order_relaxed), found == Registry().end() ? nullptr : found->second};
   }
   if (cache.instances == nullptr) return nullptr;
-  const auto& instance = (*cache.instances)[static_cast<std::size_t>(id)];
-  return instance ? &*instance : nullptr;
+  return &(*cache.instances)[static_cast<std::size_t>(id)];
 }
 
 // MuJoCo 2.2.2 keeps the activations of the stateful actuators, which come last, in d->act.
 int ActivationIndex(const mjModel* m, int id) { return id - (m->nu - m->na); }
 
 mjtNum ActDyn(const mjModel* m, const mjData* d, int id) {
-  const FpamActuator* fpam = Find(m, id);
-  if (fpam == nullptr) return 0;
-  return fpam->PressureRate(d->ctrl[id], d->act[ActivationIndex(m, id)]);
+  const Instance* instance = Find(m, id);
+  if (instance == nullptr) return 0;
+  if (instance->fpam) return instance->fpam->PressureRate(d->ctrl[id], d->act[ActivationIndex(m, id)]);
+  if (instance->state_of < 0) return 0;
+  const Instance* muscle = Find(m, instance->state_of);
+  return muscle->fpam->BranchRate(d->act[ActivationIndex(m, id)], d->actuator_velocity[id]);
 }
 
 mjtNum ActGain(const mjModel*, const mjData*, int) { return 0; }
 
 mjtNum ActBias(const mjModel* m, const mjData* d, int id) {
-  const FpamActuator* fpam = Find(m, id);
-  if (fpam == nullptr) return 0;
-  return -fpam->Force(d->actuator_length[id], d->act[ActivationIndex(m, id)]);
+  const Instance* instance = Find(m, id);
+  if (instance == nullptr || !instance->fpam) return 0;  // a hysteresis state pulls nothing
+  const double branch = instance->state_actuator >= 0 ? d->act[ActivationIndex(m, instance->state_actuator)] : 0.0;
+  return -instance->fpam->Force(d->actuator_length[id], d->act[ActivationIndex(m, id)], branch);
 }
 
 void CopyError(const std::string& message, char* error, int error_size) {
@@ -116,35 +128,55 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_register() {
   return 0;
 }
 
-// Creates the instances for every actuator of `m` configured for softwrist.fpam. Returns how many, or -1 with the
-// reason in `error` (naming the actuator and the attribute) when any configuration is invalid.
+// Creates the instances for every actuator of `m` configured for softwrist.fpam, and pairs each fPAM with hysteresis
+// with its state's actuator. Returns how many fPAMs, or -1 with the reason in `error` (naming the actuator and the
+// attribute) when any configuration is invalid.
 SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* error, int error_size) {
   using namespace softwrist::plugin;
   auto instances = std::make_shared<Instances>(static_cast<std::size_t>(m->nu));
   int count = 0;
+  std::string message;
+  const auto fail = [&](int id, const std::string& problem) {
+    CopyError("actuator '" + actuator_name(m, id) + "': " + problem, error, error_size);
+    return -1;
+  };
   for (int id = 0; id < m->nu; ++id) {
     const int text = mj_name2id(m, mjOBJ_TEXT, config_text_name(actuator_name(m, id)).c_str());
     if (text < 0) continue;
-    std::string message;
     const auto config = PluginConfig::Parse(m->text_data + m->text_adr[text], &message);
-    if (!config) {
-      CopyError("actuator '" + actuator_name(m, id) + "': " + message, error, error_size);
-      return -1;
-    }
-    if (config->plugin_name() != FpamActuator::kPluginName) continue;
+    if (!config) return fail(id, message);
+    const bool fpam = config->plugin_name() == FpamActuator::kPluginName;
+    const bool state = config->plugin_name() == FpamConfig::kHysteresisStatePlugin;
+    if (!fpam && !state) continue;
     if (m->actuator_dyntype[id] != mjDYN_USER || m->actuator_gaintype[id] != mjGAIN_USER ||
         m->actuator_biastype[id] != mjBIAS_USER) {
-      CopyError("actuator '" + actuator_name(m, id) + "': softwrist.fpam needs dyntype, gaintype and biastype 'user'",
-                error, error_size);
-      return -1;
+      return fail(id, config->plugin_name() + " needs dyntype, gaintype and biastype 'user'");
     }
+    if (state) continue;  // paired with its fPAM below
     auto actuator = FpamActuator::Create(*config, actuator_name(m, id), &message);
     if (!actuator) {
       CopyError(message, error, error_size);
       return -1;
     }
-    (*instances)[static_cast<std::size_t>(id)] = std::move(actuator);
+    (*instances)[static_cast<std::size_t>(id)].fpam = std::move(actuator);
     ++count;
+  }
+  for (int id = 0; id < m->nu; ++id) {
+    Instance& muscle = (*instances)[static_cast<std::size_t>(id)];
+    if (!muscle.fpam || !muscle.fpam->config().hysteresis.active()) continue;
+    const std::string state_name = actuator_name(m, id) + std::string(FpamConfig::kHysteresisStateSuffix);
+    const int state = mj_name2id(m, mjOBJ_ACTUATOR, state_name.c_str());
+    const int text = state < 0 ? -1 : mj_name2id(m, mjOBJ_TEXT, config_text_name(state_name).c_str());
+    const auto config = text < 0 ? std::nullopt : PluginConfig::Parse(m->text_data + m->text_adr[text], &message);
+    if (!config || config->plugin_name() != FpamConfig::kHysteresisStatePlugin) {
+      return fail(id, "has hysteresis but no actuator '" + state_name + "' configured as " +
+                          std::string(FpamConfig::kHysteresisStatePlugin) + " to hold its state");
+    }
+    if (m->actuator_trntype[state] != m->actuator_trntype[id] ||
+        m->actuator_trnid[2 * state] != m->actuator_trnid[2 * id])
+      return fail(state, "must act on the same tendon as '" + actuator_name(m, id) + "'");
+    muscle.state_actuator = state;
+    (*instances)[static_cast<std::size_t>(state)].state_of = id;
   }
   std::unique_lock lock(RegistryMutex());
   Registry()[m] = std::move(instances);

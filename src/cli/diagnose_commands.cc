@@ -118,7 +118,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   }
   if (o.dead_time_s < 0 || o.dead_time_s > 1) throw UsageError("--dead-time-s must be within 0..1");
   if (o.imu_latency_s < 0 || o.imu_latency_s > 1) throw UsageError("--imu-latency-s must be within 0..1");
-  if (o.hysteresis < 0 || o.hysteresis >= 1) throw UsageError("--hysteresis must be within 0..1");
+  if (!(o.hysteresis >= 0 && o.hysteresis < 0.5)) throw UsageError("--hysteresis must be >= 0 and < 0.5");
   if (o.trajectory_s < 1 || o.trajectory_s > 600) throw UsageError("--trajectory-s must be within 1..600");
   if (o.repetitions < 1 || o.repetitions > 20) throw UsageError("--repetitions must be within 1..20");
   real.regulator_dead_time = o.dead_time_s;
@@ -438,7 +438,8 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
   synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
   synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
-  synth->add_option("--hysteresis", s->hysteresis, "Tensile force x (1 +- h) loading/unloading");
+  synth->add_option("--hysteresis", s->hysteresis,
+                    "The fabric's hysteresis h: tensile force x (1 +- h) loading/unloading, and its state in MuJoCo");
   synth->add_option("--wrist-radius-scale", s->wrist_radius_scale, "Every wrist radius times this");
   synth->add_option("--passive-stiffness-scale", s->stiffness_scale, "The relaxed wrist's stiffness times this");
   synth->add_option("--limit-stiffening-nm", s->limit_stiffening_nm,

@@ -87,7 +87,6 @@ nlohmann::json write_corrected_models(const Diagnosis& d, const fs::path& out, c
     if (value != 0.0) info["not_in_placement"].push_back(fmt::format("{} {:.4g}", what, value));
   };
   not_held(v.regulator_dead_time, "regulator dead time [s]");
-  not_held(v.hysteresis, "fPAM force hysteresis fraction (tensile rig)");
   not_held(units::rad_to_deg(v.imu_offset_fe), "IMU offset, flexion/extension [deg]");
   not_held(units::rad_to_deg(v.imu_offset_ur), "IMU offset, ulnar/radial [deg]");
   not_held(v.imu_latency, "IMU latency [s]");

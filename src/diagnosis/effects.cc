@@ -36,9 +36,10 @@ std::vector<EffectSpec> make_catalogue() {
       {EffectId::kHysteresis,
        "hysteresis",
        "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h), on the "
-       "tensile rig and at a torque sweep's held angles reached from either side (the log's order)",
+       "tensile rig, at a torque sweep's held angles reached from either side (the log's order), and as a state of "
+       "the muscles' force in MuJoCo (physics/fpam_hysteresis.h: Dahl's model) in the range of motion and trajectories",
        {{"fraction", 0.0, 0.4, false, 0.0}},
-       {K::kTensile, K::kTorqueSweep}},
+       {K::kTensile, K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kWrapGeometry,
        "wrap_geometry",
        "the wrist the muscles wrap around has another radius (Eqns. parameters2, length, tau2)",
@@ -151,7 +152,9 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       device.wrist.damping_ur *= values[1];
       device.wrist.limit_stiffening.torque += values[2];
       break;
-    case EffectId::kHysteresis:
+    case EffectId::kHysteresis:  // the fabric's (physics/fpam_hysteresis.h), on every data kind the force acts in
+      device.hysteresis.fraction = values[0];
+      break;
     case EffectId::kImuBias:
       break;
   }
@@ -165,7 +168,6 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
   for (auto& [placement, device] : variant.rigs) apply_to_device(id, values, device);
   // The parts that act where the model meets the measurement.
   if (id == EffectId::kRegulatorLag) variant.regulator_dead_time = values[1];
-  if (id == EffectId::kHysteresis) variant.hysteresis = values[0];
   if (id == EffectId::kImuBias) {
     variant.imu_offset_fe = units::deg_to_rad(values[0]);
     variant.imu_offset_ur = units::deg_to_rad(values[1]);

@@ -52,7 +52,6 @@ struct ModelVariant {
   // as `device`: a muscle's, a mount's or a regulator's property is fitted once across all rigs.
   std::map<std::filesystem::path, sim::DeviceDescription> rigs;
   double regulator_dead_time = 0.0;                 // [s] commands reach the regulators this late
-  double hysteresis = 0.0;                          // fPAM force x (1 + h) loading, x (1 - h) unloading
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
   double imu_latency = 0.0;                         // [s] the measured angles are this old
   // Each regulator's pressure monitor reads gain x pressure + offset (the tolerance fit's calibration; exact here).

@@ -426,8 +426,8 @@ namespace {
 // What a torque sweep's sensor reads at one point (conventions.h), positive in the muscle's own direction: the
 // muscle's torque, plus the relaxed wrist's and the hand's weight's where the log says the reading includes them, or
 // less the same angle's reading at 0 kPa.
-// Hysteresis (ModelVariant::hysteresis) scales the muscle's pull by 1 + h while it was being stretched into the held
-// angle and 1 - h while it shortened into it, as on the tensile rig.
+// Hysteresis (the device's fraction h, physics/fpam_hysteresis.h) scales the muscle's pull by 1 + h while it was being
+// stretched into the held angle and 1 - h while it shortened into it, as on the tensile rig.
 double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& wrist, const SweepPoint& s,
                      const Conventions& c, double hysteresis) {
   const double direction = physics::direction_of(s.muscle);
@@ -451,14 +451,15 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
   const Trial& trial = *prepared.trial;
   switch (trial.kind) {
     case TrialKind::kTorqueSweep:
-      return predict_sweep(trial, variant.device_for(trial), variant.hysteresis);
+      return predict_sweep(trial, variant.device_for(trial));
     case TrialKind::kRangeOfMotion:
       return predict_rom(trial, variant.device_for(trial));
     case TrialKind::kTensile: {
       std::vector<double> out;
       for (const TensilePoint& t : trial.tensile) {
-        const double h = t.loading ? variant.hysteresis : -variant.hysteresis;
-        out.push_back(physics::fpam_force(variant.device_for(trial).fpam, t.pressure, t.contraction) * (1.0 + h));
+        const sim::DeviceDescription& device = variant.device_for(trial);
+        const double h = t.loading ? device.hysteresis.fraction : -device.hysteresis.fraction;
+        out.push_back(physics::fpam_force(device.fpam, t.pressure, t.contraction) * (1.0 + h));
       }
       return out;
     }
@@ -468,14 +469,13 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
   return {};
 }
 
-std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device,
-                                                double hysteresis) const {
+std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const {
   std::array<std::optional<physics::Muscle>, 4> muscles;
   const physics::WristModel wrist = sim::wrist_model(device);
   std::vector<double> out;
   for (const SweepPoint& s : trial.sweep) {
     if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions, hysteresis));
+    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions, device.hysteresis.fraction));
   }
   return out;
 }

@@ -95,7 +95,7 @@ class ReplayEngine {
   std::shared_ptr<const Simulated> cached(const std::string& key,
                                           const std::function<std::shared_ptr<const Simulated>()>& compute);
   sim::Model load_model(const sim::DeviceDescription& device, const Trial& trial) const;
-  std::vector<double> predict_sweep(const Trial& trial, const sim::DeviceDescription& device, double hysteresis) const;
+  std::vector<double> predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const;
   std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device);
   std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
                                          bool training_only);

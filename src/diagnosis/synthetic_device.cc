@@ -38,7 +38,11 @@ experiments::LogWriter open_log(const fs::path& dir, const std::string& kind, st
 sim::Model load(const SyntheticDevice& real, const sim::PluginSet& plugins, double gravity) {
   sim::ModelOptions options;
   options.gravity = gravity;
-  std::string xml = sim::build_model_xml(real.device, options);
+  // The fabric's hysteresis as a state of the muscles' force in MuJoCo (physics/fpam_hysteresis.h): the range of
+  // motion and the trajectories show it, as a real fabric muscle's would; the tensile rig keeps its own form below.
+  sim::DeviceDescription device = real.device;
+  device.hysteresis.fraction = real.hysteresis;
+  std::string xml = sim::build_model_xml(device, options);
   if (real.wrap_friction_n > 0.0) {  // friction along each muscle's tendon path: it slides over the wrist
     const std::string tendon = "<spatial name=";
     for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size())) {

@@ -28,6 +28,7 @@ void colour_muscles_by_pressure(const mjModel* model, const mjData* data, double
       geom.rgba[1] = 0.25f * (1.0f - s);
       geom.rgba[2] = 0.9f * (1.0f - s);
       geom.rgba[3] = 1.0f;
+      break;  // the tendon's first actuator is its fPAM; a hysteresis state after it is no pressure
     }
   }
 }

@@ -25,7 +25,18 @@ constexpr const char* kFormat = "softwrist.placement/1";
 
 using Reader = io::JsonReader;
 
-physics::FpamParameters read_fpam(Reader fpam) {
+// The fabric's hysteresis (physics/fpam_hysteresis.h): optional fields of "fpam", none unless given.
+physics::FpamHysteresis read_hysteresis(Reader& fpam) {
+  physics::FpamHysteresis h;
+  h.fraction = fpam.number("hysteresis", h.fraction);
+  if (!(h.fraction >= 0.0 && h.fraction < 0.5))
+    fpam.fail("hysteresis", fmt::format("must be >= 0 and < 0.5, got {}", h.fraction));
+  h.transition_length = units::mm_to_m(fpam.positive("hysteresis_length_mm", units::m_to_mm(h.transition_length)));
+  return h;
+}
+
+physics::FpamParameters read_fpam(Reader fpam, physics::FpamHysteresis& hysteresis) {
+  hysteresis = read_hysteresis(fpam);
   if (fpam.has("table")) {
     const json& table = fpam.raw("table");
     if (!table.is_array() || table.empty()) fpam.fail("table", "must be a non-empty array of rows");
@@ -195,7 +206,9 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   if (const std::string format = top.text("format", kFormat); format != kFormat) {
     top.fail("format", fmt::format("'{}' is not '{}'", format, kFormat));
   }
-  DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"))};
+  physics::FpamHysteresis hysteresis;
+  DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"), hysteresis)};
+  device.hysteresis = hysteresis;
   read_muscle_mounts(top.child("muscles"), device);
   if (top.has("stretch")) read_stretch(top.child("stretch"), device);
   if (top.has("regulator")) read_regulator(top.child("regulator"), device.regulator);
@@ -256,6 +269,10 @@ std::string device_to_json(const DeviceDescription& device) {
         {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
         {"length_cm", m_to_cm(device.hand.length)}}},
   };
+  if (device.hysteresis.active()) {  // only where the fabric is not the paper's static one
+    root["fpam"]["hysteresis"] = device.hysteresis.fraction;
+    root["fpam"]["hysteresis_length_mm"] = units::m_to_mm(device.hysteresis.transition_length);
+  }
   if (w.limit_stiffening.torque > 0.0) {  // only where the wrist is not the paper's linear one
     root["wrist"]["limit_stiffening_nm"] = w.limit_stiffening.torque;
     root["wrist"]["limit_stiffening_scale_deg"] = units::rad_to_deg(w.limit_stiffening.angle_scale);

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "physics/exosuit_layout.h"
+#include "physics/fpam_hysteresis.h"
 #include "physics/muscle_torque.h"
 #include "physics/relaxed_wrist.h"
 #include "physics/units.h"
@@ -66,7 +67,8 @@ struct Regulator {
 
 struct DeviceDescription {
   std::array<MuscleMount, 4> muscles;
-  physics::FpamParameters fpam;  // shared by the four muscles (as in Section Range of motion)
+  physics::FpamParameters fpam;        // shared by the four muscles (as in Section Range of motion)
+  physics::FpamHysteresis hysteresis;  // the fabric's, shared too; none by default (the paper's static law)
   physics::StretchMode stretch_mode = physics::StretchMode::kNone;
   physics::MountStiffness mount_stiffness;
   Regulator regulator;

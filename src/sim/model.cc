@@ -34,7 +34,12 @@ void check_plugin_names(const mjModel* m, const PluginSet& plugins, const std::s
     const auto config = plugin::PluginConfig::Parse(m->text_data + m->text_adr[text], &error);
     if (!config) throw std::runtime_error(fmt::format("{}: actuator '{}': {}", source, actuator_name(m, id), error));
     bool known = false;
-    for (const auto& library : plugins.libraries()) known = known || library.plugin_name() == config->plugin_name();
+    // A plugin's own configurations: its name, or its name and a part ("softwrist.fpam.hysteresis_state").
+    const std::string& name = config->plugin_name();
+    for (const auto& library : plugins.libraries()) {
+      const std::string& own = library.plugin_name();
+      known = known || name == own || (name.size() > own.size() && name.starts_with(own) && name[own.size()] == '.');
+    }
     if (!known) {
       throw std::runtime_error(
           fmt::format("{}: actuator '{}': unknown plugin '{}'", source, actuator_name(m, id), config->plugin_name()));

@@ -32,11 +32,14 @@ std::string vec(double x, const std::array<double, 3>& side, double offset) {
 std::string plugin_config(const DeviceDescription& device, const MuscleMount& mount) {
   const plugin::FpamConfig config{.law = device.muscle_law(mount),
                                   .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
-                                  .time_constant = device.regulator.time_constant};
+                                  .time_constant = device.regulator.time_constant,
+                                  .hysteresis = device.hysteresis};
   return config.ToText();
 }
 
-// The MJCF of the four muscles: their plugin configurations, mounts and wrap cylinders, tendons and actuators.
+// The MJCF of the four muscles: their plugin configurations, mounts and wrap cylinders, tendons and actuators (the
+// four fPAMs first, so that ctrl[0..3] are the muscles' commands; then, where the fabric has hysteresis, each
+// muscle's hysteresis state, plugins/fpam/fpam_config.h).
 struct MuscleItems {
   std::string custom, forearm_items, hand_items, tendons, actuators;
 };
@@ -79,7 +82,16 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
           name, max_kpa, device.regulator.time_constant);
     }
   }
-
+  if (options.actuators != ActuatorKind::kFpamPlugin || !device.hysteresis.active()) return items;
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    const std::string name = kMuscleNames[i] + std::string(plugin::FpamConfig::kHysteresisStateSuffix);
+    custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
+                          plugin::FpamConfig::kHysteresisStatePlugin);
+    actuators += fmt::format(
+        "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"user\" biastype=\"user\" "
+        "actlimited=\"true\" actrange=\"-1 1\"/>\n",
+        name, kMuscleNames[i]);
+  }
   return items;
 }
 

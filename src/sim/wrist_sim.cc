@@ -44,7 +44,9 @@ WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) 
                                "' needs a torque >= 0 and an e-folding angle > 0");
     }
   }
-  if (model->nu != 4 || model->na != 4) throw std::runtime_error("wrist model: expected four fPAM actuators");
+  // Four fPAMs and, where the fabric has hysteresis, their four branch states after them (sim/model_builder.cc).
+  if (model->nu != model->na || (model->nu != 4 && model->nu != 8))
+    throw std::runtime_error("wrist model: expected four fPAM actuators (and with hysteresis their four states)");
   reset();
 }
 

@@ -403,6 +403,19 @@ TEST_F(DiagnosisTest, SweepReachedFromBothSidesShowsHysteresis) {
   EXPECT_NEAR(param(fit_of(d, EffectId::kHysteresis), "fraction"), h, 0.01);
 }
 
+// The fabric's hysteresis as a state of the muscles' force (physics/fpam_hysteresis.h, issue 19): a device without
+// tensile tests or sweeps, only its range of motion and a trajectory, in which a fabric with h = 0.1 holds every
+// muscle on its shortening branch at its limit and lags the trajectory's force. The whole catalogue names hysteresis
+// from these alone, with its fraction.
+TEST_F(DiagnosisTest, HysteresisShowsInRangeOfMotionAndTrajectoriesAlone) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  const SyntheticPlan plan{.torque_sweep = false, .tensile = false, .trajectory_s = 12.0};
+  write_synthetic_data({.device = paper_device(), .hysteresis = 0.1}, plan, dir_ / "real");
+  const Diagnosis d = diagnose(load_real_data(dir_ / "real"), paper_device(), engine_, {.bootstrap = 100});
+  ASSERT_EQ(d.verdict, "hysteresis") << d.reason;
+  EXPECT_NEAR(param(fit_of(d, EffectId::kHysteresis), "fraction"), 0.1, 0.015);
+}
+
 // A relaxed wrist that stiffens towards its limits (physics/relaxed_wrist.h, Riener & Edrich's double exponential)
 // holds each muscle's range of motion back and bends the trajectories near the limits. The whole catalogue names it
 // passive_wrist and recovers the stiffening, not a stiffer linear wrist.

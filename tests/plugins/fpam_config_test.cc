@@ -31,6 +31,8 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
   }
   EXPECT_DOUBLE_EQ(a.max_pressure_kpa, b.max_pressure_kpa);
   EXPECT_DOUBLE_EQ(a.time_constant, b.time_constant);
+  EXPECT_DOUBLE_EQ(a.hysteresis.fraction, b.hysteresis.fraction);
+  EXPECT_DOUBLE_EQ(a.hysteresis.transition_length, b.hysteresis.transition_length);
 }
 
 // What the model builder writes reads back to the same configuration, for the paper's per-pressure fPAM with
@@ -39,7 +41,8 @@ TEST(FpamConfig, WrittenTextReadsBackToItself) {
   const auto rig = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
   const FpamConfig table{.law = rig, .max_pressure_kpa = 120.0, .time_constant = 0.07};
   const FpamConfig constant{.law = {.fpam = physics::paper::design_fpam(), .rest_length = 0.29}};
-  for (const FpamConfig& written : {table, constant}) {
+  const FpamConfig hysteretic{.law = rig, .hysteresis = {.fraction = 0.12, .transition_length = 0.003}};
+  for (const FpamConfig& written : {table, constant, hysteretic}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;
@@ -55,6 +58,19 @@ TEST(FpamConfig, TextNamesEveryAttributeThatApplies) {
   EXPECT_EQ(text.find("K1="), std::string::npos) << "no stiffness without stretching: " << text;
   EXPECT_NE(text.find(" stretch=none "), std::string::npos) << text;
   EXPECT_NE(text.find(" max_pressure_kpa=137 time_constant=0.1"), std::string::npos) << text;
+  EXPECT_EQ(text.find("hysteresis"), std::string::npos) << "none unless the fabric has it: " << text;
+}
+
+// The fabric's hysteresis (physics/fpam_hysteresis.h): h within [0, 0.5), a positive transition length.
+TEST(FpamConfig, HysteresisOutsideItsRangeNamesTheAttribute) {
+  std::string error;
+  const std::string base = "softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 ";
+  EXPECT_TRUE(read(base + "hysteresis=0.2 hysteresis_length=0.004", &error)) << error;
+  EXPECT_FALSE(read(base + "hysteresis=0.5", &error));
+  EXPECT_NE(error.find("actuator 'flexor': attribute 'hysteresis': must be >= 0 and < 0.5"), std::string::npos)
+      << error;
+  EXPECT_FALSE(read(base + "hysteresis=0.1 hysteresis_length=0", &error));
+  EXPECT_NE(error.find("attribute 'hysteresis_length': must be > 0"), std::string::npos) << error;
 }
 
 // The physics core's rules for the law (L0 at most 10 m, a non-zero stiffness) reach the user named by actuator.

@@ -170,6 +170,48 @@ TEST(ModelFreeMotion, LimitStiffeningHoldsTheWristBackAsTheStaticsSay) {
   EXPECT_GT(largest, deg_to_rad(2.0));
 }
 
+// The fabric's hysteresis as a state of the plugin's force (physics/fpam_hysteresis.h): the flexor at 137 kPa is moved
+// to the same angle from either side at a prescribed speed; MuJoCo's branch state is Dahl's closed form of the tendon's
+// length change, s = +-(1 - exp(-|dL| / l_h)), and its force the static law's (the same model without hysteresis, the
+// paper's Eqn. force with the mounts' stretch) times (1 + h s): the pull after lengthening exceeds the pull after
+// shortening at the same length.
+TEST(ModelCrossCheck, HysteresisStateIsDahlsAndScalesTheStaticForce) {
+  DeviceDescription device = paper_device();
+  device.hysteresis = {.fraction = 0.2, .transition_length = 0.002};
+  Sim sim(device);
+  ASSERT_EQ(sim.model->nu, 8) << "four fPAMs and their four hysteresis states";
+  Sim static_sim(paper_device());
+  const double target = deg_to_rad(10.0);
+  static_sim.hold(target, 0.0, {137.0, 0.0, 0.0, 0.0});
+  const double static_force = static_sim.data->actuator_force[kFlexor];
+  const int fe_qpos = sim.model->jnt_qposadr[sim.model.id(mjOBJ_JOINT, "wrist_fe")];
+  const int ur_qpos = sim.model->jnt_qposadr[sim.model.id(mjOBJ_JOINT, "wrist_ur")];
+  double after_lengthening = 0.0, after_shortening = 0.0;
+  for (const double start_deg : {-20.0, 40.0}) {
+    sim.hold(deg_to_rad(start_deg), 0.0, {137.0, 0.0, 0.0, 0.0});
+    const double start_length = sim.data->actuator_length[kFlexor];
+    const double duration = 0.5, speed = (target - deg_to_rad(start_deg)) / duration;
+    sim.data->ctrl[kFlexor] = 137.0;
+    while (sim.data->time < duration - 1e-9) {  // prescribed motion: the branch integrates the tendon's velocity
+      sim.data->qpos[fe_qpos] = deg_to_rad(start_deg) + speed * sim.data->time;
+      sim.data->qvel[sim.fe] = speed;
+      sim.data->qpos[ur_qpos] = sim.data->qvel[sim.ur] = 0.0;  // the other axis held
+      mj_step(sim.model.get(), sim.data.get());
+    }
+    sim.data->qpos[fe_qpos] = target;
+    sim.data->qpos[ur_qpos] = sim.data->qvel[sim.fe] = sim.data->qvel[sim.ur] = 0.0;
+    mj_forward(sim.model.get(), sim.data.get());
+    const double change = sim.data->actuator_length[kFlexor] - start_length;
+    const double branch = sim.data->act[4 + kFlexor];
+    const double expected_branch = (change > 0.0 ? 1.0 : -1.0) * (1.0 - std::exp(-std::abs(change) / 0.002));
+    EXPECT_NEAR(branch, expected_branch, 0.01) << "from " << start_deg << " deg, dL " << change;
+    EXPECT_NEAR(sim.data->actuator_force[kFlexor], static_force * (1.0 + 0.2 * branch), 1e-9 * std::abs(static_force));
+    EXPECT_EQ(sim.data->actuator_force[4 + kFlexor], 0.0) << "a state pulls nothing";
+    (change > 0.0 ? after_lengthening : after_shortening) = std::abs(sim.data->actuator_force[kFlexor]);
+  }
+  EXPECT_GT(after_lengthening, 1.3 * after_shortening);  // (1 + 0.2 s) / (1 - 0.2 s), s near 1 over centimetres
+}
+
 // Every combination of 0 and 137 kPa on the four muscles stays finite.
 TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
   Sim sim(paper_device());
@@ -229,7 +271,7 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
     EXPECT_NE(at, std::string::npos) << from;
     return text.replace(at, from.size(), to);
   };
-  const std::vector<std::pair<std::string, std::string>> cases = {
+  std::vector<std::pair<std::string, std::string>> cases = {
       {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam "),
        "actuator 'flexor': attribute 'rest_length': missing"},
       {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam rest_length=-1 "),
@@ -241,6 +283,23 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
       {replaced("<tendon>", "<tendon><bogus/>"), "model.xml"},
       {"<mujoco><worldbody>", "model.xml"},
   };
+  // With hysteresis: a state's actuator that is missing, or that acts on another muscle's tendon.
+  DeviceDescription hysteretic = paper_device();
+  hysteretic.hysteresis.fraction = 0.1;
+  const std::string with_states = build_model_xml(hysteretic);
+  auto state_replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = with_states;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  cases.push_back({state_replaced("    <general name=\"flexor_hysteresis\" tendon=\"flexor\" dyntype=\"user\" "
+                                  "gaintype=\"user\" biastype=\"user\" actlimited=\"true\" actrange=\"-1 1\"/>\n",
+                                  ""),
+                   "actuator 'flexor': has hysteresis but no actuator 'flexor_hysteresis'"});
+  cases.push_back(
+      {state_replaced("name=\"flexor_hysteresis\" tendon=\"flexor\"", "name=\"flexor_hysteresis\" tendon=\"extensor\""),
+       "actuator 'flexor_hysteresis': must act on the same tendon as 'flexor'"});
   for (const auto& [text, expected] : cases) {
     try {
       Model::FromXml(text, plugins());
