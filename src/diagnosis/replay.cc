@@ -10,6 +10,7 @@
 
 #include "diagnosis/repeat_noise.h"
 #include "physics/fpam_force.h"
+#include "physics/fpam_hysteresis.h"
 #include "physics/units.h"
 #include "sim/model.h"
 #include "sim/model_builder.h"
@@ -426,16 +427,19 @@ namespace {
 // What a torque sweep's sensor reads at one point (conventions.h), positive in the muscle's own direction: the
 // muscle's torque, plus the relaxed wrist's and the hand's weight's where the log says the reading includes them, or
 // less the same angle's reading at 0 kPa.
-// Hysteresis (the device's fraction h, physics/fpam_hysteresis.h) scales the muscle's pull by 1 + h while it was being
-// stretched into the held angle and 1 - h while it shortened into it, as on the tensile rig.
+// Hysteresis (physics/fpam_hysteresis.h) puts the muscle's pull on its lengthening branch (x (1 + h)) where it was
+// stretched into the held angle and on its shortening branch (x (1 - h)) where it shortened into it, as on the
+// tensile rig; the torque is the pull times its moment arm.
 double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& wrist, const SweepPoint& s,
-                     const Conventions& c, double hysteresis) {
+                     const Conventions& c, const physics::FpamHysteresis& hysteresis) {
   const double direction = physics::direction_of(s.muscle);
-  // The muscle lengthens as the wrist moves against its own direction.
-  const double history = 1.0 - hysteresis * direction * s.motion;
-  const double torque = history * physics::muscle_state(muscle, direction * s.angle, s.pressure).torque;
-  if (c.torque.baseline_subtracted)
-    return torque - history * physics::muscle_state(muscle, direction * s.angle, 0.0).torque;
+  const double branch = -direction * s.motion;  // the muscle lengthens as the wrist moves against its own direction
+  const auto torque_at = [&](double pressure) {
+    return physics::hysteretic_force(hysteresis, physics::muscle_state(muscle, direction * s.angle, pressure).torque,
+                                     branch);
+  };
+  const double torque = torque_at(s.pressure);
+  if (c.torque.baseline_subtracted) return torque - torque_at(0.0);
   const physics::WristAxis axis = physics::axis_of(s.muscle);
   double other = 0.0;  // [N m] towards flexion / ulnar deviation
   if (c.torque.passive_wrist) other += wrist.passive(axis, s.angle);
@@ -455,11 +459,11 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
     case TrialKind::kRangeOfMotion:
       return predict_rom(trial, variant.device_for(trial));
     case TrialKind::kTensile: {
+      const sim::DeviceDescription& device = variant.device_for(trial);
       std::vector<double> out;
       for (const TensilePoint& t : trial.tensile) {
-        const sim::DeviceDescription& device = variant.device_for(trial);
-        const double h = t.loading ? device.hysteresis.fraction : -device.hysteresis.fraction;
-        out.push_back(physics::fpam_force(device.fpam, t.pressure, t.contraction) * (1.0 + h));
+        out.push_back(physics::hysteretic_force(
+            device.hysteresis, physics::fpam_force(device.fpam, t.pressure, t.contraction), t.loading ? 1.0 : -1.0));
       }
       return out;
     }
@@ -475,7 +479,7 @@ std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::D
   std::vector<double> out;
   for (const SweepPoint& s : trial.sweep) {
     if (!muscles[s.muscle]) muscles[s.muscle] = device.muscle(s.muscle);
-    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions, device.hysteresis.fraction));
+    out.push_back(sweep_reading(*muscles[s.muscle], wrist, s, trial.conventions, device.hysteresis));
   }
   return out;
 }
