@@ -50,6 +50,10 @@ out=$(realpath "$out")
 if [ "$target" = diagnose-bench ]; then
   kind=diagnose-bench
   read -r -a args <<<"$bench"
+  # The shards run in DIR (--chdir), where diagnose-bench's default rig files (relative to the repository) are not.
+  rigs="$here/../../experiments/independent_device"
+  [[ " ${args[*]} " == *" --torque-rig "* ]] || args+=(--torque-rig "$(realpath "$rigs/torque_rig.json")")
+  [[ " ${args[*]} " == *" --prototype "* ]] || args+=(--prototype "$(realpath "$rigs/prototype.json")")
   args=(--generator independent "${args[@]}")
 else
   [ -f "$target" ] || { echo "submit.sh: no config file '$target'" >&2; exit 2; }
