@@ -9,8 +9,8 @@ std::string view_name(View view) { return view == View::kRadial ? "radial" : "pa
 void set_view_camera(View view, mjvCamera* camera) {
   mjv_defaultCamera(camera);
   camera->type = mjCAMERA_FREE;
-  camera->lookat[0] = -0.02;
-  camera->distance = 0.62;
+  camera->lookat[0] = -0.05;
+  camera->distance = 0.56;
   camera->azimuth = view == View::kRadial ? 90.0 : -90.0;
   camera->elevation = view == View::kRadial ? -65.0 : -5.0;
 }

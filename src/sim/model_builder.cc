@@ -8,6 +8,7 @@
 #include "fpam_config.h"
 #include "physics/units.h"
 #include "plugin_config.h"
+#include "sim/anatomy_visuals.h"
 
 namespace softwrist::sim {
 namespace {
@@ -23,6 +24,9 @@ constexpr std::array<MusclePlane, 4> kPlanes = {{
     {{0, -1, 0}, "1 0 0 0"},                     // ulnar: wraps about z
     {{0, 1, 0}, "1 0 0 0"},                      // radial
 }};
+
+// The mounts' markers: amber, neither red nor blue (those mean pressure, report/scene_style.h).
+constexpr const char* kMountRgba = "0.96 0.68 0.12 1";
 
 std::string vec(double x, const std::array<double, 3>& side, double offset) {
   return fmt::format("{:.6g} {:.6g} {:.6g}", x + 0.0, side[1] * offset + 0.0, side[2] * offset + 0.0);
@@ -54,14 +58,14 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
     const MusclePlane& plane = kPlanes[i];
     const double r_w = m.wrist_radius;
     forearm_items += fmt::format(
-        "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.004\" rgba=\"0.2 0.4 0.9 1\"/>\n"
+        "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.008\" rgba=\"{5}\"/>\n"
         "      <geom name=\"{0}_wrap\" type=\"cylinder\" size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
         "conaffinity=\"0\" group=\"3\" rgba=\"0.8 0.8 0.8 0.3\" mass=\"0\"/>\n"
         "      <site name=\"{0}_side\" pos=\"{4}\" size=\"0.002\" group=\"3\"/>\n",
         name, vec(-m.placement.d1, plane.side, m.placement.w1), r_w, plane.cylinder_quat,
-        vec(0.0, plane.side, 2.0 * r_w));
-    hand_items += fmt::format("        <site name=\"{0}_hand\" pos=\"{1}\" size=\"0.004\" rgba=\"0.2 0.4 0.9 1\"/>\n",
-                              name, vec(m.placement.d2, plane.side, m.placement.w2));
+        vec(0.0, plane.side, 2.0 * r_w), kMountRgba);
+    hand_items += fmt::format("        <site name=\"{0}_hand\" pos=\"{1}\" size=\"0.008\" rgba=\"{2}\"/>\n", name,
+                              vec(m.placement.d2, plane.side, m.placement.w2), kMountRgba);
     tendons += fmt::format(
         "    <spatial name=\"{0}\" width=\"0.006\" rgba=\"0.2 0.45 0.95 1\">\n"
         "      <site site=\"{0}_forearm\"/>\n      <geom geom=\"{0}_wrap\" sidesite=\"{0}_side\"/>\n"
@@ -111,6 +115,8 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
   const double inertia = h.mass * h.radius_of_gyration * h.radius_of_gyration;
 
   auto [custom, forearm_items, hand_items, tendons, actuators] = muscle_items(device, options);
+  AnatomyVisuals anatomy = anatomy_visuals(device);
+  if (!options.anatomy) anatomy.forearm_geoms = anatomy.hand_geoms = "";
   // MuJoCo's joint stiffness is linear: the stiffening towards the limits is WristSim's, read from here.
   if (w.limit_stiffening.torque > 0.0) {
     custom += fmt::format("    <numeric name=\"{}\" size=\"2\" data=\"{:.10g} {:.10g}\"/>\n", kLimitStiffeningNumeric,
@@ -125,21 +131,25 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
        108:1158, ulnar/radial stiffer than flexion/extension). Joint ranges: biological range of motion, Table RoM. -->
   <compiler angle="radian" inertiafromgeom="false"/>
   <option timestep="{timestep:.10g}" gravity="{gravity}"/>
-  <visual><global offwidth="1280" offheight="960"/></visual>
+  <visual>
+    <global offwidth="1280" offheight="960"/>
+    <headlight ambient="0.25 0.25 0.25" diffuse="0.35 0.35 0.35" specular="0.1 0.1 0.1"/>
+  </visual>
+  <asset>
+{assets}  </asset>
   <custom>
 {custom}  </custom>
   <worldbody>
-    <light pos="0 0 1.5" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
-    <geom name="table" type="plane" pos="0 0 -0.06" size="0.6 0.6 0.01" rgba="0.85 0.85 0.8 1" contype="0" conaffinity="0"/>
+    <light pos="0.2 -0.4 1.2" dir="-0.15 0.3 -1" diffuse="0.65 0.65 0.62" castshadow="true"/>
+    <light pos="-0.4 0.6 0.8" dir="0.4 -0.6 -0.8" diffuse="0.25 0.25 0.28" castshadow="false"/>
+    <geom name="table" type="plane" pos="0 0 -0.085" size="0.8 0.8 0.01" material="table" contype="0" conaffinity="0"/>
     <body name="forearm" quat="0.70710678 0.70710678 0 0">
       <inertial pos="-0.12 0 0" mass="1.2" diaginertia="0.001 0.006 0.006"/>
-      <geom name="forearm" type="capsule" fromto="-0.26 0 0 -0.03 0 0" size="0.028" rgba="0.93 0.78 0.67 1" contype="0" conaffinity="0"/>
-{forearm_items}      <body name="hand">
+{forearm_geoms}{forearm_items}      <body name="hand">
         <joint name="wrist_fe" type="hinge" axis="0 1 0" limited="true" range="{ext:.10g} {flex:.10g}" stiffness="{kfe:.10g}" damping="{bfe:.10g}"/>
         <joint name="wrist_ur" type="hinge" axis="0 0 -1" limited="true" range="{rad:.10g} {uln:.10g}" stiffness="{kur:.10g}" damping="{bur:.10g}"/>
         <inertial pos="{com:.10g} 0 0" mass="{mass:.10g}" diaginertia="{i:.10g} {i:.10g} {i:.10g}"/>
-        <geom name="hand" type="box" pos="{half:.10g} 0 0" size="{half:.10g} 0.04 0.012" rgba="0.93 0.78 0.67 1" contype="0" conaffinity="0"/>
-{hand_items}      </body>
+{hand_geoms}{hand_items}      </body>
     </body>
   </worldbody>
   <tendon>
@@ -154,7 +164,8 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
       fmt::arg("rad", -w.radial_limit), fmt::arg("uln", w.ulnar_limit), fmt::arg("kfe", w.stiffness_fe),
       fmt::arg("bfe", w.damping_fe), fmt::arg("kur", w.stiffness_ur), fmt::arg("bur", w.damping_ur),
       fmt::arg("com", h.com_distance), fmt::arg("mass", h.mass), fmt::arg("i", inertia),
-      fmt::arg("half", h.length / 2.0));
+      fmt::arg("assets", anatomy.assets), fmt::arg("forearm_geoms", anatomy.forearm_geoms),
+      fmt::arg("hand_geoms", anatomy.hand_geoms));
 }
 
 }  // namespace softwrist::sim

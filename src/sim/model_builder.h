@@ -30,6 +30,9 @@ struct ModelOptions {
   // The wrist axis the hand's weight turns: ulnar/radial deviation (the frame above: forearm horizontal, thumb up),
   // or flexion/extension (the forearm turned palm down, so the weight flexes the wrist).
   physics::WristAxis gravity_axis = physics::WristAxis::kUlnarRadial;
+  // The drawn hand, forearm, glove, band, IMUs and stand-offs (anatomy_visuals.h). They carry no mass and make no
+  // contact; false leaves their geoms out (the test that they change no dynamics).
+  bool anatomy = true;
 };
 
 // The relaxed wrist's stiffening towards its limits (PassiveWrist::limit_stiffening), when it has any: a custom
