@@ -19,7 +19,8 @@ constexpr double kReferenceHandLength = 0.19;  // [m] the sizes below are for th
 
 // Matte skin, the glove's and band's dark fabric, the IMUs' boards, the stand-offs' grey plastic, a checkered
 // table and a light sky. None is red or blue: those colours mean pressure (report/scene_style.h).
-constexpr const char* kMaterials = R"(    <texture name="sky" type="skybox" builtin="gradient" rgb1="0.95 0.96 0.97" rgb2="0.66 0.69 0.74" width="256" height="256"/>
+constexpr const char* kMaterials =
+    R"(    <texture name="sky" type="skybox" builtin="gradient" rgb1="0.95 0.96 0.97" rgb2="0.66 0.69 0.74" width="256" height="256"/>
     <texture name="table" type="2d" builtin="checker" rgb1="0.84 0.83 0.80" rgb2="0.77 0.76 0.73" width="256" height="256"/>
     <material name="table" texture="table" texrepeat="12 12"/>
     <material name="skin" rgba="0.92 0.74 0.62 1" specular="0.15" shininess="0.2"/>
@@ -112,9 +113,10 @@ std::string mount_geoms(const std::string& name, const Vec3& mount, const Vec3& 
   std::string geoms;
   if (standoff > 0.003) {
     const Vec3 base = add({mount[0], 0, 0}, side, surface);
-    geoms += fmt::format("      <geom name=\"{}_standoff\" type=\"capsule\" fromto=\"{} {}\" size=\"0.0025\" "
-                         "material=\"standoff\" {}/>\n",
-                         name, v3(base), v3(mount), kVisualOnly);
+    geoms += fmt::format(
+        "      <geom name=\"{}_standoff\" type=\"capsule\" fromto=\"{} {}\" size=\"0.0025\" "
+        "material=\"standoff\" {}/>\n",
+        name, v3(base), v3(mount), kVisualOnly);
   }
   return geoms;
 }
@@ -148,11 +150,12 @@ std::string digit_geoms(double hand_length) {
     double flex = 0.0, radius = finger.radius * s;
     for (int k = 0; k < 3; ++k) {
       flex += finger.flex_deg[static_cast<std::size_t>(k)];
-      const Vec3 end =
-          add(joint, phalanx_direction(flex, finger.spread_deg), finger.length[static_cast<std::size_t>(k)] * hand_length);
-      geoms += fmt::format("        <geom name=\"{}_{}\" type=\"capsule\" fromto=\"{} {}\" size=\"{:.4g}\" "
-                           "material=\"skin\" {}/>\n",
-                           finger.name, k + 1, v3(joint), v3(end), radius, kVisualOnly);
+      const Vec3 end = add(joint, phalanx_direction(flex, finger.spread_deg),
+                           finger.length[static_cast<std::size_t>(k)] * hand_length);
+      geoms += fmt::format(
+          "        <geom name=\"{}_{}\" type=\"capsule\" fromto=\"{} {}\" size=\"{:.4g}\" "
+          "material=\"skin\" {}/>\n",
+          finger.name, k + 1, v3(joint), v3(end), radius, kVisualOnly);
       joint = end;
       radius *= 0.9;
     }
@@ -166,9 +169,10 @@ std::string digit_geoms(double hand_length) {
     const Vec3& d = directions[k];
     const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const Vec3 end = add(joint, d, lengths[k] * hand_length / norm);
-    geoms += fmt::format("        <geom name=\"thumb_{}\" type=\"capsule\" fromto=\"{} {}\" size=\"{:.4g}\" "
-                         "material=\"{}\" {}/>\n",
-                         k + 1, v3(joint), v3(end), radii[k] * s, k == 0 ? "glove" : "skin", kVisualOnly);
+    geoms += fmt::format(
+        "        <geom name=\"thumb_{}\" type=\"capsule\" fromto=\"{} {}\" size=\"{:.4g}\" "
+        "material=\"{}\" {}/>\n",
+        k + 1, v3(joint), v3(end), radii[k] * s, k == 0 ? "glove" : "skin", kVisualOnly);
     joint = end;
   }
   return geoms;
@@ -176,9 +180,10 @@ std::string digit_geoms(double hand_length) {
 
 // An IMU (BNO055 on its board) strapped to the dorsal side at `x`, `surface` above the centre line.
 std::string imu_geom(const std::string& name, double x, double surface, const std::string& indent) {
-  return fmt::format("{}<geom name=\"{}_imu\" type=\"box\" pos=\"{:.5g} 0 {:.5g}\" size=\"0.013 0.010 0.004\" "
-                     "material=\"imu\" {}/>\n",
-                     indent, name, x, surface + 0.004, kVisualOnly);
+  return fmt::format(
+      "{}<geom name=\"{}_imu\" type=\"box\" pos=\"{:.5g} 0 {:.5g}\" size=\"0.013 0.010 0.004\" "
+      "material=\"imu\" {}/>\n",
+      indent, name, x, surface + 0.004, kVisualOnly);
 }
 
 // Forearm: an ellipse of 2.9 x 1.9 cm half-axes at the wrist (a wrist circumference of 15.5 cm) widening over the
@@ -187,7 +192,8 @@ std::string imu_geom(const std::string& name, double x, double surface, const st
 Profile forearm_profile(double length, double s) {
   return [length, s](double x) {
     const double t = std::clamp(-x / length, 0.0, 1.0);
-    const double belly = t < 0.7 ? std::sin(0.5 * std::numbers::pi * t / 0.7) : 1.0 - 0.3 * std::pow((t - 0.7) / 0.3, 2);
+    const double belly =
+        t < 0.7 ? std::sin(0.5 * std::numbers::pi * t / 0.7) : 1.0 - 0.3 * std::pow((t - 0.7) / 0.3, 2);
     return CrossSection{s * (0.029 + 0.014 * belly), s * (0.019 + 0.015 * belly)};
   };
 }
@@ -228,7 +234,8 @@ AnatomyVisuals anatomy_visuals(const DeviceDescription& device) {
   const double forearm_scale = clearance_scale(band_over, forearm_mounts, sides);
   const Profile forearm = scaled(natural_forearm, forearm_scale);
   const Profile band = scaled(band_over, forearm_scale);
-  const Profile palm = scaled(palm_profile(palm_length, s), clearance_scale(palm_profile(palm_length, s), hand_mounts, sides));
+  const Profile palm =
+      scaled(palm_profile(palm_length, s), clearance_scale(palm_profile(palm_length, s), hand_mounts, sides));
 
   double band_from = -forearm_length, band_to = 0.0;
   for (const auto& [x, w] : forearm_mounts) band_to = std::min(band_to, x);
@@ -246,7 +253,8 @@ AnatomyVisuals anatomy_visuals(const DeviceDescription& device) {
       "      <geom name=\"wrist\" type=\"ellipsoid\" size=\"0.012 {1:.5g} {2:.5g}\" material=\"skin\" {0}/>\n"
       "      <geom name=\"elbow_band\" type=\"mesh\" mesh=\"elbow_band\" material=\"band\" {0}/>\n",
       kVisualOnly, wrist.half_width, wrist.half_thickness);
-  v.forearm_geoms += imu_geom("forearm", -0.45 * forearm_length, forearm(-0.45 * forearm_length).half_thickness, "      ");
+  v.forearm_geoms +=
+      imu_geom("forearm", -0.45 * forearm_length, forearm(-0.45 * forearm_length).half_thickness, "      ");
   v.hand_geoms = fmt::format("        <geom name=\"hand\" type=\"mesh\" mesh=\"palm_glove\" material=\"glove\" {}/>\n",
                              kVisualOnly);
   v.hand_geoms += imu_geom("hand", 0.5 * palm_length, palm(0.5 * palm_length).half_thickness, "        ");
