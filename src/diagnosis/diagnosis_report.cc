@@ -1,5 +1,6 @@
 #include "diagnosis/diagnosis_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -7,8 +8,10 @@
 #include <fmt/format.h>
 
 #include "io/csv.h"
+#include "io/text_file.h"
 #include "physics/units.h"
 #include "report/html_report.h"
+#include "report/page_style.h"
 #include "sim/device.h"
 
 namespace softwrist::diagnosis {
@@ -22,16 +25,18 @@ std::string number_or_empty(double v) { return std::isfinite(v) ? format_number(
 
 void write_curves(const Diagnosis& d, const fs::path& path) {
   io::CsvWriter csv(path, {"experiment", "kind", "unit", "heldout", "angle_deg", "pressure_kpa", "contraction",
-                           "channel", "motion", "t_s", "measured", "nominal", "corrected"});
+                           "muscle", "channel", "motion", "t_s", "measured", "nominal", "corrected"});
   for (std::size_t t = 0; t < d.prepared.size(); ++t) {
     const PreparedTrial& p = d.prepared[t];
     for (std::size_t i = 0; i < p.points.size(); ++i) {
       const Point& point = p.points[i];
-      csv.write_row({p.name, to_string(p.trial->kind), p.unit, point.heldout ? "1" : "0",
-                     number_or_empty(point.angle_deg), number_or_empty(point.pressure_kpa),
-                     number_or_empty(point.contraction), std::to_string(point.channel), std::to_string(point.motion),
-                     number_or_empty(point.t_s), format_number(point.measured),
-                     number_or_empty(d.nominal_predictions[t][i]), number_or_empty(d.corrected_predictions[t][i])});
+      csv.write_row(
+          {p.name, to_string(p.trial->kind), p.unit, point.heldout ? "1" : "0", number_or_empty(point.angle_deg),
+           number_or_empty(point.pressure_kpa), number_or_empty(point.contraction),
+           point.muscle >= 0 && point.muscle < 4 ? sim::kMuscleNames[static_cast<std::size_t>(point.muscle)] : "",
+           std::to_string(point.channel), std::to_string(point.motion), number_or_empty(point.t_s),
+           format_number(point.measured), number_or_empty(d.nominal_predictions[t][i]),
+           number_or_empty(d.corrected_predictions[t][i])});
     }
   }
 }
@@ -52,11 +57,13 @@ std::string effect_rows(const std::vector<EffectFit>& fits) {
     std::string params;
     for (const auto& [name, value] : f.params) params += fmt::format("{} = {:.4g}<br>", html_escape(name), value);
     if (!f.applicable) {
-      rows += fmt::format("<tr><td>{}</td><td colspan=5>no data it acts on</td></tr>\n", html_escape(f.name));
+      rows += fmt::format("<tr><td>{}</td><td colspan=\"5\" class=\"note\">no data it acts on</td></tr>\n",
+                          html_escape(f.name));
       continue;
     }
     rows += fmt::format(
-        "<tr><td>{}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.0f} %</td><td>[{:.0f}, {:.0f}] %</td><td>{}</td></tr>\n",
+        "<tr><td>{}</td><td class=\"num\">{:.3f}</td><td class=\"num\">{:.3f}</td><td class=\"num\">{:.0f}</td>"
+        "<td class=\"num\">[{:.0f}, {:.0f}]</td><td>{}</td></tr>\n",
         html_escape(f.name), f.heldout_error_before, f.heldout_error_after, 100 * f.shrink_fraction, 100 * f.ci_low,
         100 * f.ci_high, params);
   }
@@ -93,6 +100,121 @@ nlohmann::json write_corrected_models(const Diagnosis& d, const fs::path& out, c
   return info;
 }
 
+const char* kEffectHeader =
+    "<div class=\"table-wrap\"><table><tr><th>effect</th><th class=\"num\">held-out error before [noise units]</th>"
+    "<th class=\"num\">after [noise units]</th><th class=\"num\">shrink [%]</th>"
+    "<th class=\"num\">95 % bootstrap CI [%]</th><th>fitted</th></tr>\n";
+
+// The result first, every sentence with its numbers: the verdict, how much of the gap the correction closes, and
+// which trials keep a gap beyond their noise (and how large) when some do.
+std::vector<std::string> summary_lines(const Diagnosis& d) {
+  std::vector<std::string> lines = {
+      fmt::format("<b>Verdict: {}</b>. {}", html_escape(d.verdict), html_escape(d.reason))};
+  const auto gap_trials = std::count_if(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; });
+  lines.push_back(fmt::format(
+      "Held-out error, the systematic residual in noise units: {:.3f} with the nominal model and {:.3f} corrected "
+      "over all {} trials; over the {} trials with a gap of their own, {:.3f} and {:.3f}: the correction closes "
+      "{:.0f} % of it.",
+      d.heldout_nominal, d.heldout_corrected, d.trials.size(), gap_trials, d.gap_nominal, d.gap_corrected,
+      100.0 * d.gap_closed()));
+  std::vector<std::string> remaining;
+  for (const TrialGap& t : d.trials) {
+    if (!t.remaining_significant) continue;
+    remaining.push_back(fmt::format("{} (RMS residual {:.3g} {}, {:.2f} noise units beyond its noise of {:.3g} {}{})",
+                                    html_escape(t.experiment), t.rms_corrected, html_escape(t.unit), t.excess_corrected,
+                                    t.noise, html_escape(t.unit), t.gap ? "" : "; it had no gap of its own"));
+  }
+  if (remaining.empty()) {
+    lines.push_back("With the corrected model no trial differs from the simulation beyond its noise.");
+  } else {
+    std::string list;
+    for (const std::string& r : remaining) list += (list.empty() ? "" : "; ") + r;
+    lines.push_back(fmt::format("A significant gap remains after correction in {} of {} trials: {}.", remaining.size(),
+                                d.trials.size(), list));
+  }
+  return lines;
+}
+
+bool attention(const Diagnosis& d) { return d.remaining_gap_significant || d.verdict == "unexplained"; }
+
+std::string effects_section(const Diagnosis& d) {
+  return fmt::format(
+      "<h2>Effects, each alone on the nominal model (best first)</h2>\n{0}{1}</table></div>\n"
+      "<h2>Combination (greedy)</h2>\n{0}{2}</table></div>\n",
+      kEffectHeader, effect_rows(d.effects), effect_rows(d.combination));
+}
+
+std::string trials_section(const Diagnosis& d) {
+  std::string rows;
+  for (const auto& t : d.trials) {
+    rows += fmt::format(
+        "<tr{}><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{:.3g}</td><td class=\"num\">{:.3g}</td>"
+        "<td class=\"num\">{:.3g}</td><td class=\"num\">{:.2f}</td><td class=\"num\">{:.2f}</td>"
+        "<td class=\"num\">{:.2g}</td><td>{}</td></tr>\n",
+        t.remaining_significant ? " class=\"significant\"" : "", html_escape(t.experiment), to_string(t.kind),
+        html_escape(t.unit), t.noise, t.rms_nominal, t.rms_corrected, t.excess_nominal, t.excess_corrected, t.p_value,
+        t.remaining_significant ? "yes" : "no");
+  }
+  return "<h2>Trials</h2>\n<p class=\"note\">Residuals and noise in the trial's unit; the systematic residual in noise "
+         "units, sqrt(max(0, mean (r/&sigma;)<sup>2</sup> &minus; 1)). A red edge marks a trial that keeps a gap "
+         "beyond its noise after correction.</p>\n<div class=\"table-wrap\"><table><tr><th>trial</th><th>kind</th>"
+         "<th>unit</th><th class=\"num\">noise</th><th class=\"num\">RMS residual, nominal</th>"
+         "<th class=\"num\">RMS residual, corrected</th><th class=\"num\">systematic, nominal [noise units]</th>"
+         "<th class=\"num\">systematic, corrected [noise units]</th><th class=\"num\">p (nominal gap is noise)</th>"
+         "<th>gap remains after correction</th></tr>\n" +
+         rows + "</table></div>\n";
+}
+
+std::string where_section(const Diagnosis& d) {
+  std::string rows;
+  int shown = 0;
+  for (const auto& e : d.localization) {
+    if (++shown > 25) break;
+    rows += fmt::format(
+        "<tr{}><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{:.4g}</td><td class=\"num\">{:.4g}</td>"
+        "<td>{}</td><td class=\"num\">{:.2g}</td></tr>\n",
+        e.significant ? " class=\"located\"" : "", html_escape(e.experiment), html_escape(e.where), html_escape(e.unit),
+        e.residual, e.noise, e.significant ? "yes" : "no", e.p_value);
+  }
+  return "<h2>Where the gap lies, with the nominal model (most significant first)</h2>\n"
+         "<p class=\"note\">An amber edge marks a part whose residual is significant.</p>\n"
+         "<div class=\"table-wrap\"><table><tr><th>trial</th><th>where</th><th>unit</th>"
+         "<th class=\"num\">systematic residual</th><th class=\"num\">noise alone would give</th><th>significant</th>"
+         "<th class=\"num\">p</th></tr>\n" +
+         rows + "</table></div>\n";
+}
+
+// The plots plot_diagnosis.py listed in OUT/plots.json, in page order.
+std::vector<std::string> read_plot_list(const fs::path& out) {
+  std::vector<std::string> files;
+  const nlohmann::json plots = nlohmann::json::parse(io::read_text_file(out / "plots.json"));
+  for (const auto& plot : plots) {
+    const std::string file = plot.value("file", "");
+    if (!fs::is_regular_file(out / file))
+      throw std::runtime_error("diagnosis report: plot " + file + " was not written");
+    files.push_back(file);
+  }
+  return files;
+}
+
+std::string plots_section(const fs::path& out, const std::vector<std::string>& files) {
+  if (files.empty()) return "<h2>Plots</h2>\n<p class=\"note\">(no plots)</p>\n";
+  const nlohmann::json plots = nlohmann::json::parse(io::read_text_file(out / "plots.json"));
+  std::string html = "<h2>Plots</h2>\n";
+  for (const auto& plot : plots) {
+    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
+                        html_escape(plot.value("file", "")), html_escape(plot.value("caption", "")));
+  }
+  return html;
+}
+
+std::string skipped_section(const Diagnosis& d) {
+  std::string items;
+  for (const auto& p : d.problems)
+    items += fmt::format("<li>{}: {}</li>\n", html_escape(p.file), html_escape(p.reason));
+  return "<h2>Skipped</h2>\n<ul>" + (items.empty() ? std::string("<li>none</li>") : items) + "</ul>\n";
+}
+
 }  // namespace
 
 DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, const DiagnosisReportOptions& options) {
@@ -106,65 +228,14 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
   write_residual_map(d, out / "residual_map.csv");
   if (options.plots) {
     report::run_plot_script("plot_diagnosis.py", {out.string()});
-    for (const auto& entry : fs::directory_iterator(out)) {
-      if (entry.path().extension() == ".png") result.plots.push_back(entry.path().filename().string());
-    }
-    std::sort(result.plots.begin(), result.plots.end());
+    result.plots = read_plot_list(out);
   }
-
-  std::string trials;
-  for (const auto& t : d.trials) {
-    trials += fmt::format(
-        "<tr><td>{}</td><td>{}</td><td>{:.4g} {}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:.2g}{}</td></tr>\n",
-        html_escape(t.experiment), to_string(t.kind), t.noise, html_escape(t.unit), t.rms_nominal, t.rms_corrected,
-        t.p_value, t.significant ? " (significant)" : "");
-  }
-  std::string where;
-  int shown = 0;
-  for (const auto& e : d.localization) {
-    if (++shown > 25) break;
-    where += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4g}</td><td>{:.4g}</td><td>{} {:.2g}</td></tr>\n",
-                         html_escape(e.experiment), html_escape(e.where), e.residual, e.noise,
-                         e.significant ? "yes," : "no,", e.p_value);
-  }
-  std::string skipped;
-  for (const auto& p : d.problems)
-    skipped += fmt::format("<li>{}: {}</li>\n", html_escape(p.file), html_escape(p.reason));
-  std::string images;
-  for (const auto& plot : result.plots)
-    images += fmt::format("<figure><img src=\"{}\" alt=\"{}\"></figure>\n", plot, plot);
 
   std::ofstream page(result.page);
-  page << fmt::format(R"(<!DOCTYPE html>
-<html><head><meta charset="utf-8"><title>softwrist gap diagnosis</title>
-<style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} table{{border-collapse:collapse}}
-td,th{{border:1px solid #ccc;padding:3px 6px;font-size:13px}} img{{max-width:100%}}</style></head><body>
-<h1>Sim-to-real gap diagnosis</h1>
-<p><b>Verdict: {}</b> ({})</p>
-<p>Held-out error ({}): nominal {:.3f}, corrected {:.3f}; over the trials with a significant gap {:.3f} and {:.3f}
-(closed {:.1f} %); a significant gap remains after correction: {}.</p>
-<h2>Effects, each alone on the nominal model (best first)</h2>
-<table><tr><th>effect</th><th>held-out before</th><th>after</th><th>shrink</th><th>95 % bootstrap CI</th><th>fitted</th></tr>
-{}</table>
-<h2>Combination (greedy)</h2>
-<table><tr><th>effect</th><th>held-out before</th><th>after</th><th>shrink</th><th>95 % bootstrap CI</th><th>fitted</th></tr>
-{}</table>
-<h2>Trials</h2>
-<table><tr><th>trial</th><th>kind</th><th>noise</th><th>RMS residual, nominal</th><th>corrected</th><th>p (nominal gap is noise)</th></tr>
-{}</table>
-<h2>Where the gap lies (most significant first)</h2>
-<table><tr><th>trial</th><th>where</th><th>residual</th><th>noise alone</th><th>significant, p</th></tr>
-{}</table>
-<h2>Plots</h2>
-{}
-<h2>Skipped</h2><ul>{}</ul>
-</body></html>
-)",
-                      html_escape(d.verdict), html_escape(d.reason), kErrorMetric, d.heldout_nominal,
-                      d.heldout_corrected, d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed(),
-                      d.remaining_gap_significant ? "yes" : "no", effect_rows(d.effects), effect_rows(d.combination),
-                      trials, where, images.empty() ? "<p>(no plots)</p>" : images,
-                      skipped.empty() ? "<li>none</li>" : skipped);
+  page << report::page_head("Sim-to-real gap diagnosis", "") << report::summary_box(summary_lines(d), attention(d))
+       << effects_section(d) << trials_section(d) << where_section(d) << plots_section(out, result.plots)
+       << skipped_section(d) << report::page_end();
+  report::write_stylesheet(out);
   return result;
 }
 

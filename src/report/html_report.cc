@@ -9,6 +9,7 @@
 
 #include "io/subprocess.h"
 #include "io/text_file.h"
+#include "report/page_style.h"
 #include "report/pose_renderer.h"
 #include "report/run_moments.h"
 
@@ -27,9 +28,9 @@ nlohmann::json read_json(const fs::path& path) {
 }
 
 // A number for the table, or "–" when absent.
-std::string num(const nlohmann::json& value, int digits = 2, const std::string& unit = "") {
+std::string num(const nlohmann::json& value, int digits = 2) {
   if (!value.is_number()) return "–";
-  return fmt::format("{:.{}f}{}", value.get<double>(), digits, unit);
+  return fmt::format("{:.{}f}", value.get<double>(), digits);
 }
 
 const nlohmann::json& at(const nlohmann::json& j, std::initializer_list<const char*> path) {
@@ -107,75 +108,73 @@ std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, con
   std::vector<std::array<std::string, 3>> rows;
   if (kind == "torque_validation") {
     for (const char* method : {"fixed_no_stretch", "fixed_stretch", "motion_capture", "fixed_stretch_selfconsistent"}) {
-      rows.push_back({fmt::format("MAE, {}", html_escape(at(s, {"methods", method}).is_string()
-                                                             ? at(s, {"methods", method}).get<std::string>()
-                                                             : method)),
-                      num(at(s, {"mae_nm", method}), 3, " N m"), num(at(s, {"paper_mae_nm", method}), 3, " N m")});
+      const nlohmann::json& label = at(s, {"methods", method});
+      rows.push_back({fmt::format("MAE, {} [N m]", html_escape(label.is_string() ? label.get<std::string>() : method)),
+                      num(at(s, {"mae_nm", method}), 3), num(at(s, {"paper_mae_nm", method}), 3)});
     }
   } else if (kind == "range_of_motion") {
     for (const auto& m : at(s, {"muscles"})) {
-      rows.push_back({fmt::format("{} range", html_escape(m.value("direction", "?"))),
-                      num(m["settled_deg"], 1, "°") + " ± " + num(m["settled_std_deg"], 1, "°") + " (statics " +
-                          num(m["analytic_settled_deg"], 1, "°") + ")",
-                      num(m["paper_exosuit_deg"], 1, "°") + " ± " + num(m["paper_exosuit_std_deg"], 1, "°") +
-                          " (biological " + num(m["paper_biological_deg"], 1, "°") + ")"});
+      rows.push_back({fmt::format("{} range [deg]", html_escape(m.value("direction", "?"))),
+                      num(m["settled_deg"], 1) + " ± " + num(m["settled_std_deg"], 1) + " (statics " +
+                          num(m["analytic_settled_deg"], 1) + ")",
+                      num(m["paper_exosuit_deg"], 1) + " ± " + num(m["paper_exosuit_std_deg"], 1) + " (biological " +
+                          num(m["paper_biological_deg"], 1) + ")"});
     }
   } else if (kind == "design_optimization") {
     for (const char* p : {"d1", "w1", "d2", "w2"}) {
-      rows.push_back({fmt::format("optimum {}", p), num(at(s, {"optimum_cm", p}), 2, " cm"),
-                      num(at(s, {"paper", "optimum_cm", p}), 2, " cm")});
+      rows.push_back({fmt::format("optimum {} [cm]", p), num(at(s, {"optimum_cm", p}), 2),
+                      num(at(s, {"paper", "optimum_cm", p}), 2)});
     }
-    rows.push_back({"objective (Eqn. objective_function)", num(at(s, {"objective_nm"}), 2, " N m"), "–"});
-    rows.push_back({"minimum pressure meeting the reference", num(at(s, {"min_pressure", "pressure_kpa"}), 1, " kPa"),
-                    num(at(s, {"paper", "min_pressure_kpa"}), 0, " kPa")});
-    rows.push_back({"d2 at the minimum pressure", num(at(s, {"min_pressure", "optimum_cm", "d2"}), 2, " cm"),
-                    num(at(s, {"paper", "min_pressure_d2_cm"}), 2, " cm")});
+    rows.push_back({"objective, Eqn. objective_function [N m]", num(at(s, {"objective_nm"}), 2), "–"});
+    rows.push_back({"minimum pressure meeting the reference [kPa]", num(at(s, {"min_pressure", "pressure_kpa"}), 1),
+                    num(at(s, {"paper", "min_pressure_kpa"}), 0)});
+    rows.push_back({"d2 at the minimum pressure [cm]", num(at(s, {"min_pressure", "optimum_cm", "d2"}), 2),
+                    num(at(s, {"paper", "min_pressure_d2_cm"}), 2)});
   } else if (kind == "tracking") {
     for (const auto& c : at(s, {"controllers"})) {
       const std::string name = html_escape(c.value("controller", "?"));
       for (const char* axis : {"fe", "ur"}) {
         const std::string key = fmt::format("rmse_{}_deg", axis);
         if (!c[key].is_number()) continue;
-        rows.push_back({fmt::format("{}: RMSE {} (reachable targets)", name, axis),
-                        num(c[key], 2, "°") + " (" + num(c[fmt::format("reachable_rmse_{}_deg", axis)], 2, "°") + ")",
-                        num(at(s, {"paper", key.c_str()}), 2, "°")});
+        rows.push_back({fmt::format("{}: RMSE {}, all (reachable) targets [deg]", name, axis),
+                        num(c[key], 2) + " (" + num(c[fmt::format("reachable_rmse_{}_deg", axis)], 2) + ")",
+                        num(at(s, {"paper", key.c_str()}), 2)});
       }
       for (const char* direction : {"towards_extension", "towards_flexion"}) {
         if (!c.contains(direction)) continue;
-        rows.push_back({fmt::format("{}: step {} rise time / overshoot", name, direction),
-                        num(c[direction]["rise_time_s"], 2, " s") + " / " + num(c[direction]["overshoot_pct"], 1, " %"),
-                        num(at(s, {"paper", direction, "rise_time_s"}), 2, " s") + " / " +
-                            num(at(s, {"paper", direction, "overshoot_pct"}), 0, " %")});
+        rows.push_back({fmt::format("{}: step {}, rise time [s] / overshoot [%]", name, direction),
+                        num(c[direction]["rise_time_s"], 2) + " / " + num(c[direction]["overshoot_pct"], 1),
+                        num(at(s, {"paper", direction, "rise_time_s"}), 2) + " / " +
+                            num(at(s, {"paper", direction, "overshoot_pct"}), 0)});
       }
     }
   }
   return rows;
 }
 
-namespace {
-
-std::string page_head(const std::string& title, const nlohmann::json& config) {
-  return fmt::format(R"(<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>{0}</title>
-<style>
-body {{ font-family: sans-serif; max-width: 1000px; margin: 2em auto; color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; }} td, th {{ border: 1px solid #ccc; padding: 4px 10px; text-align: left; }}
-th {{ background: #f0f0f0; }} figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
-figcaption {{ color: #555; font-size: 0.9em; }} .missing {{ color: #b00; font-weight: bold; }}
-.renders {{ display: grid; grid-template-columns: 1fr 1fr; gap: 0 1.5em; }} pre {{ background: #f7f7f7; padding: 1em; overflow-x: auto; }}
-</style></head><body>
-<h1>{0}</h1>
-<p>{1}</p>
-)",
-                     html_escape(title), html_escape(config.is_object() ? config.value("description", "") : ""));
+std::vector<std::string> summary_lines(const std::string& kind, const nlohmann::json& summary) {
+  std::vector<std::string> lines;
+  for (const auto& [quantity, simulated, paper] : metric_rows(kind, summary)) {
+    // The headline figures: every row but the tracking steps' and the design's secondary ones.
+    if (quantity.find(": step ") != std::string::npos || quantity.find("objective") != std::string::npos) continue;
+    lines.push_back(paper == "–" || paper.starts_with("– ")
+                        ? fmt::format("<b>{}</b>: {}", quantity, simulated)
+                        : fmt::format("<b>{}</b>: {} here; {} in the paper", quantity, simulated, paper));
+  }
+  return lines;
 }
 
+namespace {
+
 std::string metrics_section(const std::string& kind, const nlohmann::json& summary) {
-  std::string html = "<h2>Metrics</h2>\n<table><tr><th>quantity</th><th>softwrist</th><th>paper</th></tr>\n";
+  std::string html =
+      "<h2>Metrics</h2>\n<div class=\"table-wrap\"><table>\n<tr><th>quantity [unit]</th><th class=\"num\">softwrist"
+      "</th><th class=\"num paper\">paper</th></tr>\n";
   for (const auto& row : metric_rows(kind, summary)) {
-    html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", row[0], row[1], row[2]);
+    html += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num paper\">{}</td></tr>\n", row[0],
+                        row[1], row[2]);
   }
-  html += "</table>\n";
+  html += "</table></div>\n";
   if (summary.contains("explanation") && summary["explanation"].is_string()) {
     html += fmt::format("<p>{}</p>\n", html_escape(summary["explanation"]));
   }
@@ -218,36 +217,18 @@ std::string renders_section(const fs::path& run_dir, const fs::path& out, std::v
 
 std::string what_was_run_section(const nlohmann::json& sidecar, const nlohmann::json& config,
                                  const nlohmann::json& summary) {
-  std::string html = "<h2>What was run</h2>\n<table>\n";
+  std::string html = "<h2>What was run</h2>\n<div class=\"table-wrap\"><table>\n";
   for (const char* key : {"source", "config_hash", "model_hash", "software_version", "cases", "format"}) {
     if (!sidecar.contains(key)) continue;
     const auto& v = sidecar[key];
     html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", key,
                         html_escape(v.is_string() ? v.get<std::string>() : v.dump()));
   }
-  html += fmt::format("</table>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
+  html += fmt::format("</table></div>\n<h3>Config</h3>\n<pre>{}</pre>\n", html_escape(config.dump(2)));
   html +=
       fmt::format("<details><summary>summary.json</summary><pre>{}</pre></details>\n", html_escape(summary.dump(2)));
   return html;
 }
-
-// A plot or render that did not load says so on the page (a moved page without its PNGs, say); the count of
-// loaded images is on <body data-images> for the headless-browser test.
-constexpr const char* kPageEnd = R"(<script>
-window.addEventListener("load", () => {
-  const images = Array.from(document.images);
-  const missing = images.filter((img) => !img.complete || img.naturalWidth === 0);
-  for (const img of missing) {
-    const note = document.createElement("p");
-    note.className = "missing";
-    note.textContent = "image missing: " + img.getAttribute("src");
-    img.replaceWith(note);
-  }
-  document.body.dataset.images = (images.length - missing.length) + "/" + images.length;
-});
-</script>
-</body></html>
-)";
 
 }  // namespace
 
@@ -271,12 +252,14 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
 
   const nlohmann::json& config = at(sidecar, {"config"});
   const std::string title = fmt::format("softwrist {}: {}", kind, run_dir.filename().string());
-  std::string html = page_head(title, config);
+  std::string html = page_head(title, config.is_object() ? config.value("description", "") : "");
+  html += summary_box(summary_lines(kind, summary));
   html += metrics_section(kind, summary);
   html += plots_section(plots, out, result.plots);
   if (options.renders) html += renders_section(run_dir, out, result.renders);
   html += what_was_run_section(sidecar, config, summary);
-  html += kPageEnd;
+  html += page_end();
+  write_stylesheet(out);
   std::ofstream(result.page) << html;
   if (!fs::is_regular_file(result.page)) throw std::runtime_error(result.page.string() + ": could not be written");
   return result;

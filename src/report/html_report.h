@@ -28,8 +28,10 @@ struct ReportResult {
 // summary.json, the plotting failing (python3 or python3-matplotlib missing).
 ReportResult write_report(const std::filesystem::path& run_dir, const ReportOptions& options = {});
 
-// The metrics table of a summary: rows of {quantity, softwrist, paper}, by the run's kind.
+// The metrics table of a summary: rows of {quantity [unit], softwrist, paper}, by the run's kind.
 std::vector<std::array<std::string, 3>> metric_rows(const std::string& kind, const nlohmann::json& summary);
+// The page's summary box: the headline rows of that table as sentences, the same numbers.
+std::vector<std::string> summary_lines(const std::string& kind, const nlohmann::json& summary);
 
 std::string html_escape(const std::string& text);
 
