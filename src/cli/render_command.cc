@@ -41,6 +41,8 @@ struct RenderOptions {
   // Both.
   int width = 640;
   int height = 480;
+  bool shadows = false;  // and reflections: the look of the viewer, at less than half the frame rate
+  report::RenderQuality quality() const { return {.shadows = shadows, .reflections = shadows}; }
 };
 
 report::View view_named(const std::string& name) {
@@ -61,7 +63,7 @@ void render_pose(const RenderOptions& options, std::ostream& out) {
     }
     pose.pressures_kpa[i] = pressures[i];
   }
-  report::PoseRenderer renderer(device, options.width, options.height);
+  report::PoseRenderer renderer(device, options.width, options.height, options.quality());
   report::write_png(renderer.Render(pose, view_named(options.view)), options.out);
   out << fmt::format("Wrote {} ({}x{}, {} view)\n", options.out, options.width, options.height, options.view);
 }
@@ -75,7 +77,7 @@ void render_moments(const RenderOptions& options, std::ostream& out) {
   }
   const fs::path dir = options.out_dir.empty() ? fs::path(options.run) / "renders" : fs::path(options.out_dir);
   fs::create_directories(dir);
-  report::PoseRenderer renderer(run.device, options.width, options.height);
+  report::PoseRenderer renderer(run.device, options.width, options.height, options.quality());
   for (const report::Moment& moment : run.moments) {
     const fs::path file = dir / (moment.name + ".png");
     report::write_png(renderer.Render(moment.pose, moment.view), file);
@@ -93,7 +95,7 @@ void render_video(const RenderOptions& options, std::ostream& out) {
                                  timeline.front().t, timeline.back().t));
   }
   const auto started = std::chrono::steady_clock::now();
-  report::PoseRenderer renderer(report::run_device(options.run), options.width, options.height);
+  report::PoseRenderer renderer(report::run_device(options.run), options.width, options.height, options.quality());
   report::VideoWriter video(options.video, options.width, options.height, options.fps);
   const double log_time_per_frame = options.speed / options.fps;
   const int frame_count = static_cast<int>((to - from) / log_time_per_frame) + 1;
@@ -148,6 +150,9 @@ void add_render_command(CLI::App& app, std::ostream& out) {
   auto* to = render->add_option("--to", options->to_s, "Video end [s] (default: the case's end)");
   render->add_option("--width", options->width, "Image width [px]")->check(CLI::Range(16, 1280));
   render->add_option("--height", options->height, "Image height [px]")->check(CLI::Range(16, 960));
+  render->add_flag(
+      "--shadows", options->shadows,
+      "Shadows and reflections, as in the viewer (off by default: they cost more than half the frame rate)");
 
   for (CLI::Option* pose_option : {placement, fe, ur, pressures, png}) pose_option->excludes(run);
   for (CLI::Option* run_option : {at, case_index, out_dir, video}) run_option->needs(run);

@@ -19,9 +19,13 @@ struct OffscreenRenderer::Impl {
   mjvScene scene;
   mjvOption option;
   mjrContext render_context;
+  RenderQuality quality;
+  Image image;                           // the last frame, reused
+  std::vector<unsigned char> bottom_up;  // glReadPixels' rows, reused
 };
 
-OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int height) : impl_(std::make_unique<Impl>()) {
+OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int height, const RenderQuality& quality)
+    : impl_(std::make_unique<Impl>()) {
   if (width < 16 || height < 16 || width > 4096 || height > 4096) {
     throw std::runtime_error(fmt::format("render size {}x{} must be within 16..4096", width, height));
   }
@@ -29,6 +33,9 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   r.model = model.get();
   r.width = width;
   r.height = height;
+  r.quality = quality;
+  r.image = {width, height, std::vector<unsigned char>(static_cast<std::size_t>(width) * height * 3)};
+  r.bottom_up.resize(r.image.rgb.size());
   r.context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   if (r.context == nullptr)
     throw std::runtime_error("OSMesa could not create a rendering context (is libosmesa6 installed?)");
@@ -41,7 +48,15 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   mjv_defaultOption(&r.option);
   mjr_defaultContext(&r.render_context);
   mjv_makeScene(r.model, &r.scene, 2000);
-  mjr_makeContext(r.model, &r.render_context, mjFONTSCALE_100);
+  // The rendering context is made from a shallow copy of the model whose only change is its drawing quality and an
+  // offscreen buffer of the frame's size (a 1280x960 multisampled buffer costs memory and clearing): mjr_makeContext
+  // only reads the model, and the shared model stays as it is for the viewer and the simulation.
+  mjModel drawn = *r.model;
+  drawn.vis.quality.numslices = std::max(8, quality.slices);
+  drawn.vis.quality.numstacks = std::max(4, quality.slices / 2);
+  drawn.vis.global.offwidth = width;
+  drawn.vis.global.offheight = height;
+  mjr_makeContext(&drawn, &r.render_context, mjFONTSCALE_100);
   mjr_setBuffer(mjFB_OFFSCREEN, &r.render_context);
   if (r.render_context.offWidth < width || r.render_context.offHeight < height) {
     throw std::runtime_error(
@@ -57,27 +72,35 @@ OffscreenRenderer::~OffscreenRenderer() {
   OSMesaDestroyContext(impl_->context);
 }
 
-Image OffscreenRenderer::Render(const mjData* data, View view, double max_pressure_kpa) {
+const Image& OffscreenRenderer::Render(const mjData* data, View view, double max_pressure_kpa) {
   Impl& r = *impl_;
   mjvCamera camera;
   set_view_camera(view, &camera);
   mjv_updateScene(r.model, const_cast<mjData*>(data), &r.option, nullptr, &camera, mjCAT_ALL, &r.scene);
+  r.scene.flags[mjRND_SHADOW] = r.quality.shadows ? 1 : 0;
+  r.scene.flags[mjRND_REFLECTION] = r.quality.reflections ? 1 : 0;
   colour_muscles_by_pressure(r.model, data, max_pressure_kpa, &r.scene);
   const mjrRect viewport = {0, 0, r.width, r.height};
   mjr_render(viewport, &r.scene, &r.render_context);
-  return read_pixels(r.render_context, r.width, r.height);
+  read_pixels(r.render_context, r.image, r.bottom_up);
+  return r.image;
+}
+
+void read_pixels(const mjrContext& context, Image& image, std::vector<unsigned char>& bottom_up) {
+  const std::size_t row = static_cast<std::size_t>(image.width) * 3;
+  image.rgb.resize(row * static_cast<std::size_t>(image.height));
+  bottom_up.resize(image.rgb.size());
+  mjr_readPixels(bottom_up.data(), nullptr, {0, 0, image.width, image.height}, &context);
+  for (int y = 0; y < image.height; ++y) {
+    std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(image.height - 1 - y)),
+                row, image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)));
+  }
 }
 
 Image read_pixels(const mjrContext& context, int width, int height) {
-  Image image{width, height,
-              std::vector<unsigned char>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)};
-  std::vector<unsigned char> bottom_up(image.rgb.size());
-  mjr_readPixels(bottom_up.data(), nullptr, {0, 0, width, height}, &context);
-  const std::size_t row = static_cast<std::size_t>(width) * 3;
-  for (int y = 0; y < height; ++y) {
-    std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(height - 1 - y)), row,
-                image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)));
-  }
+  Image image{width, height, {}};
+  std::vector<unsigned char> bottom_up;
+  read_pixels(context, image, bottom_up);
   return image;
 }
 

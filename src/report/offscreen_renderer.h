@@ -20,17 +20,27 @@ struct Image {
   std::vector<unsigned char> rgb;  // row-major, top row first
 };
 
+// What a frame costs on llvmpipe (2 cores, 640x480, `softwrist bench render`): shadows more than halve the frame
+// rate, and each geom's tessellation counts more than the pixels. Reports and videos draw without shadows or
+// reflections and with 16 slices per round geom unless asked; the interactive viewer keeps the model's own look.
+struct RenderQuality {
+  bool shadows = false;
+  bool reflections = false;
+  int slices = 16;  // around a sphere, capsule or cylinder (MuJoCo's <quality numslices>; its default is 28)
+};
+
 class OffscreenRenderer {
  public:
   // Creates the OSMesa context and MuJoCo's rendering context. Throws std::runtime_error with a clear message when
   // OSMesa cannot create a context.
-  OffscreenRenderer(const sim::Model& model, int width, int height);
+  OffscreenRenderer(const sim::Model& model, int width, int height, const RenderQuality& quality = {});
   ~OffscreenRenderer();
   OffscreenRenderer(const OffscreenRenderer&) = delete;
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
 
-  // Renders the state in `data` (positions and activations as they are; call mj_forward first).
-  Image Render(const mjData* data, View view, double max_pressure_kpa);
+  // Renders the state in `data` (positions and activations as they are; call mj_forward first). The image is the
+  // renderer's own, overwritten by the next frame (no allocation per frame); copy it to keep it.
+  const Image& Render(const mjData* data, View view, double max_pressure_kpa);
 
  private:
   struct Impl;
@@ -39,6 +49,8 @@ class OffscreenRenderer {
 
 // The current buffer of a MuJoCo rendering context (offscreen or window), top row first.
 Image read_pixels(const mjrContext& context, int width, int height);
+// The same into `image` (sized width x height), through `bottom_up` (a scratch buffer), reusing both.
+void read_pixels(const mjrContext& context, Image& image, std::vector<unsigned char>& bottom_up);
 
 // Writes an 8-bit RGB PNG (libpng). Throws std::runtime_error naming the file on failure.
 void write_png(const Image& image, const std::filesystem::path& path);

@@ -9,13 +9,13 @@
 
 namespace softwrist::report {
 
-PoseRenderer::PoseRenderer(const sim::DeviceDescription& device, int width, int height)
+PoseRenderer::PoseRenderer(const sim::DeviceDescription& device, int width, int height, const RenderQuality& quality)
     : device_(device),
       wrist_(device_.model),
-      renderer_(device_.model, width, height),
+      renderer_(device_.model, width, height, quality),
       max_pressure_kpa_(units::pa_to_kpa(device.regulator.max_pressure)) {}
 
-Image PoseRenderer::Render(const WristPose& pose, View view) {
+const Image& PoseRenderer::Render(const WristPose& pose, View view) {
   if (!std::isfinite(pose.fe) || !std::isfinite(pose.ur)) throw std::runtime_error("render: wrist angle is not finite");
   for (std::size_t i = 0; i < 4; ++i) {
     const double p = pose.pressures_kpa[i];

@@ -12,10 +12,11 @@ namespace softwrist::report {
 class PoseRenderer {
  public:
   // Throws std::runtime_error as OffscreenRenderer does (OSMesa missing, a size out of range).
-  PoseRenderer(const sim::DeviceDescription& device, int width, int height);
+  PoseRenderer(const sim::DeviceDescription& device, int width, int height, const RenderQuality& quality = {});
 
-  // Throws std::runtime_error when a pressure is outside the device's regulator range or an angle is not finite.
-  Image Render(const WristPose& pose, View view);
+  // Throws std::runtime_error when a pressure is outside the device's regulator range or an angle is not finite. The
+  // image is overwritten by the next call (OffscreenRenderer::Render).
+  const Image& Render(const WristPose& pose, View view);
 
  private:
   experiments::SimulatedDevice device_;

@@ -51,6 +51,28 @@ TEST(OffscreenRenderer, MusclesAreColouredByPressure) {
   EXPECT_GT(all.red, 30);
 }
 
+// Frames reuse the renderer's image (no allocation per frame); shadows and reflections are drawn only when asked for
+// (RenderQuality), and they change the picture.
+TEST(OffscreenRenderer, ReusesItsImageAndDrawsShadowsOnlyWhenAsked) {
+  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(sim::paper_device()), sim::PluginSet::Default());
+  const sim::Data data = sim::make_data(model);
+  mj_forward(model.get(), data.get());
+  OffscreenRenderer plain(model, 320, 240);
+  const Image& first = plain.Render(data.get(), View::kPalmar, 137.0);
+  const unsigned char* pixels = first.rgb.data();
+  const Image unshadowed = first;
+  const Image& second = plain.Render(data.get(), View::kPalmar, 137.0);
+  EXPECT_EQ(&first, &second);
+  EXPECT_EQ(second.rgb.data(), pixels);
+  EXPECT_EQ(second.rgb, unshadowed.rgb);  // the same state draws the same picture
+
+  OffscreenRenderer shadowed(model, 320, 240, {.shadows = true, .reflections = true});
+  const Image& with_shadows = shadowed.Render(data.get(), View::kPalmar, 137.0);
+  int darker = 0;  // the hand's and arm's shadows on the table
+  for (std::size_t i = 0; i < unshadowed.rgb.size(); ++i) darker += with_shadows.rgb[i] + 40 < unshadowed.rgb[i];
+  EXPECT_GT(darker, 500);
+}
+
 TEST(OffscreenRenderer, WritesAPng) {
   const auto path =
       std::filesystem::temp_directory_path() / ("softwrist_render_test_" + std::to_string(::getpid()) + ".png");
