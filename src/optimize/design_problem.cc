@@ -42,15 +42,17 @@ physics::Muscle design_muscle(const DesignProblem& problem, const physics::Place
 DesignEvaluator::DesignEvaluator(const DesignProblem& problem, double pressure)
     : problem_(problem), force_law_(pressure, problem.fpam.at_pressure(pressure), problem.fpam.fabric()) {
   validate(problem);
+  for (double angle : problem.samples.angles) angles_.emplace_back(angle);
 }
 
 std::vector<double> DesignEvaluator::torque_curve(const physics::Placement& placement) const {
   const physics::Muscle muscle = design_muscle(problem_, placement);
   physics::validate(muscle);
+  const physics::PlacementGeometry geometry(muscle.placement, muscle.wrist_radius);  // once for all the angles
   std::vector<double> torques;
-  torques.reserve(problem_.samples.angles.size());
-  for (double angle : problem_.samples.angles)
-    torques.push_back(physics::muscle_state(muscle, force_law_, angle).torque);
+  torques.reserve(angles_.size());
+  for (const physics::JointAngle& angle : angles_)
+    torques.push_back(physics::muscle_state(muscle, geometry, force_law_, angle).torque);
   return torques;
 }
 

@@ -62,6 +62,7 @@ class DesignEvaluator {
  private:
   const DesignProblem& problem_;
   physics::FpamForceLaw force_law_;
+  std::vector<physics::JointAngle> angles_;  // the sample angles with their cosines and sines, worked out once
 };
 
 }  // namespace softwrist::optimize

@@ -58,6 +58,18 @@ class FpamForceLaw {
   double elastic_term(double contraction_ratio) const {
     return fabric_elastic_term(contraction_ratio, elastic_slope_, elastic_onset_);
   }
+  // The law as a quadratic in the fPAM's stretch s = 1 - contraction_ratio (its length over L0), where it is positive:
+  // c2 s^2 + c1 s + c0, with the fabric's elastic term (contraction below epsilon_0) or without it. For solvers that
+  // use the law's form (the mounts' self-consistent stretch, muscle_law.cc).
+  struct Quadratic {
+    double c2 = 0.0, c1 = 0.0, c0 = 0.0;
+  };
+  Quadratic quadratic(bool elastic) const {
+    if (!elastic) return {mckibben_scale_ * three_over_tan2_, 0.0, -mckibben_scale_ * one_over_sin2_};
+    return {mckibben_scale_ * three_over_tan2_, elastic_slope_,
+            -mckibben_scale_ * one_over_sin2_ + elastic_slope_ * (elastic_onset_ - 1.0)};
+  }
+  double elastic_onset() const { return elastic_onset_; }
 
  private:
   double mckibben_scale_;   // pi P r0^2

@@ -42,6 +42,10 @@ void validate(const MountStiffness& stiffness);
 double mount_stretch(double force, double stiffness);
 // dx_1 + dx_2 [m] at force F.
 double total_mount_stretch(double force, const MountStiffness& stiffness);
+// c = 1/sqrt|K_1| + 1/sqrt|K_2| [m/sqrt(N)]: the total stretch is c sqrt(F).
+inline double mount_compliance(const MountStiffness& stiffness) {
+  return 1.0 / std::sqrt(std::abs(stiffness.forearm)) + 1.0 / std::sqrt(std::abs(stiffness.hand));
+}
 
 struct StretchedForce {
   double force = 0.0;          // the fPAM's pull with the mounts stretched [N]
@@ -56,8 +60,7 @@ StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double 
   const double unstretched = force_at_length(path_length);
   if (mode == StretchMode::kNone || unstretched <= 0.0) return {unstretched, 0.0};
   validate(stiffness);
-  // Total stretch is compliance * sqrt(F).
-  const double compliance = 1.0 / std::sqrt(std::abs(stiffness.forearm)) + 1.0 / std::sqrt(std::abs(stiffness.hand));
+  const double compliance = mount_compliance(stiffness);
   auto force_with_stretch = [&](double stretch) {
     return force_at_length(path_length > stretch ? path_length - stretch : 0.0);
   };
@@ -65,16 +68,29 @@ StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double 
     const double stretch = compliance * std::sqrt(unstretched);
     return {force_with_stretch(stretch), stretch};
   }
-  // Self-consistent: root of residual(u) = f(L - compliance u) - u^2 on [0, sqrt(f(L))].
+  // Self-consistent: root of residual(u) = f(L - compliance u) - u^2, decreasing in u, on [0, sqrt(f(L))].
+  // g(u) = sqrt(f(L - compliance u)) is decreasing, so g(hi) is a lower bound of the root and g(g(hi)) an upper one:
+  // two evaluations that narrow the bracket far more than regula falsi's first steps would (this runs in the
+  // plugin's force, every step: `softwrist bench sim`).
   auto residual = [&](double u) { return force_with_stretch(compliance * u) - u * u; };
-  double lo = 0.0, hi = std::sqrt(unstretched);
-  double r_lo = residual(lo), r_hi = residual(hi);
+  double hi = std::sqrt(unstretched);
+  const double f_hi = force_with_stretch(compliance * hi);
+  double r_hi = f_hi - hi * hi;
   if (r_hi >= 0.0) return {hi * hi, compliance * hi};  // f(L - s) == f(L): the stretch costs no force
+  double lo = std::sqrt(std::max(0.0, f_hi));
+  const double f_lo = force_with_stretch(compliance * lo);
+  double r_lo = f_lo - lo * lo;
+  if (const double upper = std::sqrt(std::max(0.0, f_lo)); upper < hi && upper > lo) {
+    const double r_upper = residual(upper);
+    if (r_upper <= 0.0) hi = upper, r_hi = r_upper;
+  }
+  if (r_lo <= 0.0) return {lo * lo, compliance * lo};  // the lower bound is the root (to rounding)
   int side = 0;
   for (int iteration = 0; iteration < 200 && hi - lo > 1e-12 * (1.0 + hi); ++iteration) {
     const double u = (lo * r_hi - hi * r_lo) / (r_hi - r_lo);
     const double r = residual(u);
-    if (r == 0.0) {
+    // Self-consistent to 1e-13 of the force: done, without waiting for the far end of the bracket to close.
+    if (std::abs(r) <= 1e-13 * u * u) {
       lo = hi = u;
       break;
     }

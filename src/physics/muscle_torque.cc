@@ -17,7 +17,13 @@ MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressu
 }
 
 MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle) {
-  const MusclePath path = muscle_path(muscle.placement, muscle.wrist_radius, joint_angle);
+  return muscle_state(muscle, PlacementGeometry(muscle.placement, muscle.wrist_radius), force_law,
+                      JointAngle(joint_angle));
+}
+
+MuscleState muscle_state(const Muscle& muscle, const PlacementGeometry& geometry, const FpamForceLaw& force_law,
+                         const JointAngle& joint_angle) {
+  const MusclePath path = geometry.at(joint_angle);
   const StretchedForce stretched = stretched_force(muscle, force_law, path.length);
 
   MuscleState state;
@@ -25,7 +31,9 @@ MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, do
   state.path_length = path.length;
   state.mount_stretch = stretched.mount_stretch;
   state.effective_length = path.length > stretched.mount_stretch ? path.length - stretched.mount_stretch : 0.0;
-  state.contraction_ratio = contraction_ratio(state.effective_length, muscle.rest_length);
+  // contraction_ratio() inline: L0 > 0 is the validated law's, and the effective length is non-negative by
+  // construction.
+  state.contraction_ratio = (muscle.rest_length - state.effective_length) / muscle.rest_length;
   state.force = stretched.force;
   state.moment_arm = path.moment_arm;
   state.torque = stretched.force * path.moment_arm;

@@ -33,6 +33,9 @@ MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressu
 // The same with the force law already prepared for one pressure from this muscle's fPAM, for loops over many angles
 // or placements at that pressure (the design optimization). The muscle must have been validated.
 MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle);
+// The same with the placement's geometry worked out once (PlacementGeometry of the muscle's placement and r_w).
+MuscleState muscle_state(const Muscle& muscle, const PlacementGeometry& geometry, const FpamForceLaw& force_law,
+                         const JointAngle& joint_angle);
 
 // Section Parameter optimization: "the initial, fully stretched length of the fPAM should be the shortest length
 // that still allows the user to reach the full range of motion in the direction that stretches the muscle",

@@ -52,19 +52,31 @@ double wrap_transition_angle(const Placement& placement, double wrist_radius) {
   return wrap_angle_at_zero(placement, wrist_radius, tangent_angle(placement, wrist_radius));
 }
 
-MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle) {
+PlacementGeometry::PlacementGeometry(const Placement& placement, double wrist_radius)
+    : placement_(placement), wrist_radius_(wrist_radius) {
   validate(placement, wrist_radius);
+  tangent_length1_ = std::sqrt(placement.d1 * placement.d1 + placement.w1 * placement.w1 - wrist_radius * wrist_radius);
+  tangent_length2_ = std::sqrt(placement.d2 * placement.d2 + placement.w2 * placement.w2 - wrist_radius * wrist_radius);
+  tangent_angle_ = tangent_angle(placement, wrist_radius);
+  wrap_angle_at_zero_ = wrap_angle_at_zero(placement, wrist_radius, tangent_angle_);
+  cos_q2_at_zero_ = std::cos(tangent_angle_ + wrap_angle_at_zero_);
+  sin_q2_at_zero_ = std::sin(tangent_angle_ + wrap_angle_at_zero_);
+}
+
+MusclePath PlacementGeometry::at(const JointAngle& angle) const {
+  const double joint_angle = angle.radians;
   require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]", joint_angle,
           "must be finite and within [-pi, pi]");
-  const auto [d1, w1, d2, w2] = placement;
-  const double r_w = wrist_radius;
-  const double c = std::cos(joint_angle);
-  const double s = std::sin(joint_angle);
-  const double r1 = std::hypot(d1, w1);
-  const double r2 = std::hypot(d2, w2);
+  const auto [d1, w1, d2, w2] = placement_;
+  const double r_w = wrist_radius_;
+  const double c = angle.cos;
+  const double s = angle.sin;
+  // Distances of centimetres: sqrt(x^2 + y^2) neither overflows nor underflows here, and std::hypot's care costs
+  // more than the rest of the path (perf on `softwrist bench optimize`).
+  const auto distance = [](double x, double y) { return std::sqrt(x * x + y * y); };
 
-  const double psi = tangent_angle(placement, r_w);
-  const double phi = wrap_angle_at_zero(placement, r_w, psi) - joint_angle;  // Eqn. parameters2
+  const double psi = tangent_angle_;
+  const double phi = wrap_angle_at_zero_ - joint_angle;  // Eqn. parameters2
 
   MusclePath path;
   path.wrap_angle = phi;
@@ -73,19 +85,25 @@ MusclePath muscle_path(const Placement& placement, double wrist_radius, double j
   const double p2y = d2 * s + w2 * c;
   if (phi > 0.0) {
     path.regime = Regime::kWrapping;
-    // Eqn. length.
-    path.length = std::sqrt(r1 * r1 - r_w * r_w) + r_w * phi + std::sqrt(r2 * r2 - r_w * r_w);
-    // Eqn. tau2 with psi + phi (see header): cross product of O->P2 with the unit vector P2->Q2, times r_w.
-    const double q2_angle = psi + phi;
-    const double p2q2 = std::hypot(r_w * std::sin(q2_angle) - p2x, r_w * std::cos(q2_angle) - p2y);
-    path.moment_arm = r_w / p2q2 * (p2x * std::cos(q2_angle) - p2y * std::sin(q2_angle));
+    // Eqn. length: the two tangents sqrt(R_i^2 - r_w^2) and the arc.
+    path.length = tangent_length1_ + r_w * phi + tangent_length2_;
+    // Eqn. tau2 with psi + phi (see header): cross product of O->P2 with the unit vector P2->Q2, times r_w. Q2's
+    // polar angle psi + phi = (psi + phi0) - theta: its cosine and sine by the difference formulas, no trigonometry.
+    const double cos_q2 = cos_q2_at_zero_ * c + sin_q2_at_zero_ * s;
+    const double sin_q2 = sin_q2_at_zero_ * c - cos_q2_at_zero_ * s;
+    const double p2q2 = distance(r_w * sin_q2 - p2x, r_w * cos_q2 - p2y);
+    path.moment_arm = r_w / p2q2 * (p2x * cos_q2 - p2y * sin_q2);
   } else {
     path.regime = Regime::kStraight;
     // Eqn. tau1.
-    path.length = std::hypot(-d1 - p2x, w1 - p2y);
+    path.length = distance(-d1 - p2x, w1 - p2y);
     path.moment_arm = ((d1 * d2 - w1 * w2) * s + (d1 * w2 + d2 * w1) * c) / path.length;
   }
   return path;
+}
+
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle) {
+  return PlacementGeometry(placement, wrist_radius).at(joint_angle);
 }
 
 }  // namespace softwrist::physics

@@ -23,6 +23,8 @@
 //    phi - psi turns Q2 by -2 psi off the tangent point: its moment arm is still constant but a little below r_w
 //    (0.44 % on the torque rig, where psi = 2.75 deg), so the torque would step by that much at the transition.
 
+#include <cmath>
+
 namespace softwrist::physics {
 
 // Mounting-point placement of one fPAM (Fig. GeometricModel; Tables optimized_parameters, RoM), in metres.
@@ -50,6 +52,26 @@ void validate(const Placement& placement, double wrist_radius);
 
 // The muscle's path at a joint angle [rad], |joint_angle| <= pi.
 MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle);
+
+// What of the path depends on the placement alone (validated once: R1, R2, psi and phi at zero), for loops over
+// many angles at one placement (the design objective's reference angles). at(theta) == muscle_path(..., theta).
+// A joint angle with its cosine and sine, for loops that visit the same angles at many placements.
+struct JointAngle {
+  explicit JointAngle(double angle) : radians(angle), cos(std::cos(angle)), sin(std::sin(angle)) {}
+  double radians, cos, sin;
+};
+
+class PlacementGeometry {
+ public:
+  PlacementGeometry(const Placement& placement, double wrist_radius);  // validate(placement, wrist_radius)
+  MusclePath at(double joint_angle) const { return at(JointAngle(joint_angle)); }
+  MusclePath at(const JointAngle& joint_angle) const;
+
+ private:
+  Placement placement_;
+  double wrist_radius_, tangent_length1_, tangent_length2_, tangent_angle_, wrap_angle_at_zero_;
+  double cos_q2_at_zero_, sin_q2_at_zero_;  // of psi + phi0: Q2's polar angle is psi + phi0 - theta
+};
 
 // The joint angle [rad] at which the muscle stops wrapping: Eqn. parameters2 solved for phi = 0,
 // theta* = pi/2 - (psi + acos(r_w/R2) + asin(w2/R2)). Below it the muscle wraps, above it it runs straight.

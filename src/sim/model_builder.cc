@@ -79,11 +79,7 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
           "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",
           name, max_kpa);
     } else {
-      // The same regulator as a built-in filter, and a force linear in pressure (about the fPAM's at 10 % contraction).
-      actuators += fmt::format(
-          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"filter\" dynprm=\"{2:.10g}\" gainprm=\"-1\" "
-          "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",
-          name, max_kpa, device.regulator.time_constant);
+      actuators += fmt::format("    <general name=\"{0}\" tendon=\"{0}\" gainprm=\"1\"/>\n", name);
     }
   }
   if (options.actuators != ActuatorKind::kFpamPlugin || !device.hysteresis.active()) return items;

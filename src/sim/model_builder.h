@@ -17,8 +17,10 @@
 namespace softwrist::sim {
 
 enum class ActuatorKind {
-  kFpamPlugin,      // <general> with user dynamics/gain/bias, configured for softwrist.fpam
-  kBuiltinGeneral,  // MuJoCo's own <general>: first-order filter on ctrl, force = -gain * act (benchmark baseline)
+  kFpamPlugin,  // <general> with user dynamics/gain/bias, configured for softwrist.fpam
+  // MuJoCo's own <general> with force = ctrl on the same tendon, no dynamics: replays a recorded force (the plugin
+  // benchmark's baseline, `softwrist bench sim`).
+  kForceReplay,
 };
 
 struct ModelOptions {

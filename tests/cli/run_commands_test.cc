@@ -90,7 +90,8 @@ TEST(CliBench, OptimizeJsonHasTheIssuesKeys) {
                       (kSource / "experiments/design_optimization.json").string(), "--exhaustive-resolution-cm", "1"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum"})
+  for (const char* key : {"wall_s", "evaluations", "placement_cm", "objective", "same_optimum", "global_optimum_wall_s",
+                          "objective_evaluations_per_s"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["placement_cm"].size(), 4u);
   EXPECT_TRUE(j["same_optimum"].get<bool>());
@@ -112,6 +113,17 @@ TEST(CliBench, ControlReportsEveryControllerOverTheTrajectory) {
   EXPECT_EQ(j["controllers"][0]["controller"], "paper");
 }
 
+// The plugin benchmark's baseline replays the plugin's forces through MuJoCo's own actuators: the two runs move bit
+// for bit alike, so its ratio is the plugin's cost alone (the ratio itself is the benchmark's business).
+TEST(CliBench, SimReplaysThePluginsForcesWithTheSameMotion) {
+  const auto r = run({"bench", "sim", "--json", "--steps", "3000", "--rounds", "1"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["same_motion"].get<bool>());
+  EXPECT_EQ(j["max_joint_difference_rad"].get<double>(), 0.0);
+  EXPECT_GT(j["ratio"].get<double>(), 0.0);
+}
+
 // The render benchmark draws real frames at both sizes and reports positive rates; a bad frame count is a usage
 // error.
 TEST(CliBench, RenderReportsFramesPerSecond) {
@@ -120,6 +132,7 @@ TEST(CliBench, RenderReportsFramesPerSecond) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_GT(j["fps_640x480"].get<double>(), 0.0);
   EXPECT_GT(j["fps_320x240"].get<double>(), 0.0);
+  EXPECT_GT(j["fps_640x480_viewer_look"].get<double>(), 0.0);
   EXPECT_EQ(run({"bench", "render", "--frames", "0"}).code, 2);
   const auto wrong = run({"bench", "control", "--config", (kSource / "experiments/range_of_motion.json").string()});
   EXPECT_NE(wrong.code, 0);

@@ -37,6 +37,31 @@ TEST(MuscleLaw, StretchingMountsPullLess) {
   EXPECT_GT(stretched_force(stretching, length, 137e3).mount_stretch, 0.0);
 }
 
+// The self-consistent stretch in closed form (Eqn. force is piecewise quadratic in length) is the root the iterative
+// solver of mount_stretch.h finds, to 1e-10 of the force, across pressures, lengths from slack to beyond L0, on both
+// sides of the elastic onset, with the paper's mounts, ten times softer ones and very stiff ones; and it satisfies
+// Eqn. fabric_stretching, F = f(L - c sqrt(F)).
+TEST(MuscleLaw, SelfConsistentStretchInClosedFormIsTheIterativeRoot) {
+  const Muscle paper_flexor = paper::torque_measurement_flexor(StretchMode::kSelfConsistent);
+  for (const double softness : {0.1, 1.0, 1e3}) {
+    MuscleLaw law = paper_flexor;
+    law.mount_stiffness.forearm *= softness;
+    law.mount_stiffness.hand *= softness;
+    for (double pressure = 0.0; pressure <= 137e3; pressure += 17.125e3) {
+      const FpamForceLaw force_law(pressure, law.fpam.at_pressure(pressure), law.fpam.fabric());
+      const auto at_length = [&](double l) { return force_law((law.rest_length - l) / law.rest_length); };
+      for (double length = 0.15; length <= 0.40; length += 0.0025) {
+        const StretchedForce closed = stretched_force(law, force_law, length);
+        const StretchedForce iterative =
+            solve_mount_stretch(at_length, length, law.mount_stiffness, StretchMode::kSelfConsistent);
+        EXPECT_NEAR(closed.force, iterative.force, 1e-10 * (1.0 + iterative.force)) << pressure << " " << length;
+        EXPECT_NEAR(closed.mount_stretch, iterative.mount_stretch, 1e-10) << pressure << " " << length;
+        EXPECT_NEAR(closed.force, at_length(length - closed.mount_stretch), 1e-9 * (1.0 + closed.force));
+      }
+    }
+  }
+}
+
 TEST(MuscleLaw, ValidationNamesTheRestLengthAndTheStiffness) {
   MuscleLaw law{.fpam = paper::design_fpam(), .rest_length = 12.0};
   EXPECT_THROW(validate(law), InvalidParameter);
