@@ -12,7 +12,9 @@
 //    parameters", dx_i = sqrt(F/K_i), and the force is then evaluated once at the shortened length.
 //  - kSelfConsistent: the force and the stretch agree, F = f(L - dx_1(F) - dx_2(F)). The residual
 //    f(L - c sqrt(F)) - F falls strictly with F, so the fixed point is unique; it is bracketed and solved in
-//    u = sqrt(F) (where the residual is smooth) by the Illinois false-position method.
+//    u = sqrt(F) (where the residual is smooth) by the Illinois false-position method; with the fPAM's own force law,
+//    which is quadratic in length on each side of the elastic onset, stretched_force solves it in closed form
+//    instead (muscle_law.cc), tested against this solver.
 //
 // Sign of K: Table torque_measurement_parameters prints K1 = -43.36 and K2 = -1097.50 N/cm^2. With F >= 0 and
 // dx^2 >= 0, F = K dx^2 has no solution for K < 0, so the sign cannot be the stiffness's; it matches the paper
@@ -70,8 +72,7 @@ StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double 
   }
   // Self-consistent: root of residual(u) = f(L - compliance u) - u^2, decreasing in u, on [0, sqrt(f(L))].
   // g(u) = sqrt(f(L - compliance u)) is decreasing, so g(hi) is a lower bound of the root and g(g(hi)) an upper one:
-  // two evaluations that narrow the bracket far more than regula falsi's first steps would (this runs in the
-  // plugin's force, every step: `softwrist bench sim`).
+  // two evaluations that narrow the bracket far more than regula falsi's first steps would.
   auto residual = [&](double u) { return force_with_stretch(compliance * u) - u * u; };
   double hi = std::sqrt(unstretched);
   const double f_hi = force_with_stretch(compliance * hi);
