@@ -154,6 +154,8 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
   const double distance_cm = units::m_to_cm(
       std::max({std::abs(b.d1 - c.d1), std::abs(b.w1 - c.w1), std::abs(b.d2 - c.d2), std::abs(b.w2 - c.w2)}));
   constexpr double kPaperWallS = 24 * 60;  // Section Parameter optimization: "24 minutes on average"
+  const bool same_optimum = not_worse && distance_cm <= options.exhaustive_resolution_cm;
+  const double evaluations_per_s = (result.evaluations + check.evaluations) / (wall + exhaustive_wall);
   if (options.json) {
     out << nlohmann::json{{"wall_s", wall},
                           {"evaluations", result.evaluations},
@@ -166,11 +168,10 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
                           {"exhaustive_points", check.evaluations},
                           {"exhaustive_placement_cm", placement_cm(c)},
                           {"exhaustive_objective", check.objective},
-                          {"same_optimum", not_worse && distance_cm <= options.exhaustive_resolution_cm},
+                          {"same_optimum", same_optimum},
                           // The exhaustive grid is the guarantee: the global optimum on it, every point evaluated.
                           {"global_optimum_wall_s", exhaustive_wall},
-                          {"objective_evaluations_per_s",
-                           (result.evaluations + check.evaluations) / (wall + exhaustive_wall)},
+                          {"objective_evaluations_per_s", evaluations_per_s},
                           {"paper_wall_s", kPaperWallS}}
                .dump()
         << '\n';
@@ -188,9 +189,9 @@ int run_optimize_bench(const OptimizeBenchOptions& options, std::ostream& out) {
                exhaustive_wall, check.evaluations, units::m_to_cm(c.d1), units::m_to_cm(c.w1), units::m_to_cm(c.d2),
                units::m_to_cm(c.w2), check.objective, options.exhaustive_resolution_cm)
         << fmt::format("  same optimum: {} (multi-start not worse, within one grid step)\n",
-                       not_worse && distance_cm <= options.exhaustive_resolution_cm ? "yes" : "NO")
+                       same_optimum ? "yes" : "NO")
         << fmt::format("  objective evaluations {:.3g}/s; the global optimum on the grid in {:.2f} s\n",
-                       (result.evaluations + check.evaluations) / (wall + exhaustive_wall), exhaustive_wall)
+                       evaluations_per_s, exhaustive_wall)
         << fmt::format("  paper (MATLAB fminsearch): 24 min in all; target here < 10 s; ratio paper/here {:.0f}\n",
                        kPaperWallS / wall);
   }

@@ -8,7 +8,6 @@
 #include <fmt/format.h>
 
 #include "io/csv.h"
-#include "io/text_file.h"
 #include "physics/units.h"
 #include "report/html_report.h"
 #include "report/page_style.h"
@@ -184,30 +183,6 @@ std::string where_section(const Diagnosis& d) {
          rows + "</table></div>\n";
 }
 
-// The plots plot_diagnosis.py listed in OUT/plots.json, in page order.
-std::vector<std::string> read_plot_list(const fs::path& out) {
-  std::vector<std::string> files;
-  const nlohmann::json plots = nlohmann::json::parse(io::read_text_file(out / "plots.json"));
-  for (const auto& plot : plots) {
-    const std::string file = plot.value("file", "");
-    if (!fs::is_regular_file(out / file))
-      throw std::runtime_error("diagnosis report: plot " + file + " was not written");
-    files.push_back(file);
-  }
-  return files;
-}
-
-std::string plots_section(const fs::path& out, const std::vector<std::string>& files) {
-  if (files.empty()) return "<h2>Plots</h2>\n<p class=\"note\">(no plots)</p>\n";
-  const nlohmann::json plots = nlohmann::json::parse(io::read_text_file(out / "plots.json"));
-  std::string html = "<h2>Plots</h2>\n";
-  for (const auto& plot : plots) {
-    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
-                        html_escape(plot.value("file", "")), html_escape(plot.value("caption", "")));
-  }
-  return html;
-}
-
 std::string skipped_section(const Diagnosis& d) {
   std::string items;
   for (const auto& p : d.problems)
@@ -226,15 +201,17 @@ DiagnosisReport write_diagnosis_report(const Diagnosis& d, const fs::path& out, 
   std::ofstream(result.json) << json.dump(2) << "\n";
   write_curves(d, out / "curves.csv");
   write_residual_map(d, out / "residual_map.csv");
+  std::string figures;
   if (options.plots) {
     report::run_plot_script("plot_diagnosis.py", {out.string()});
-    result.plots = read_plot_list(out);
+    figures = report::plot_figures(out, result.plots);
   }
+  if (figures.empty()) figures = "<p class=\"note\">(no plots)</p>\n";
 
   std::ofstream page(result.page);
   page << report::page_head("Sim-to-real gap diagnosis", "") << report::summary_box(summary_lines(d), attention(d))
-       << effects_section(d) << trials_section(d) << where_section(d) << plots_section(out, result.plots)
-       << skipped_section(d) << report::page_end();
+       << effects_section(d) << trials_section(d) << where_section(d) << "<h2>Plots</h2>\n"
+       << figures << skipped_section(d) << report::page_end();
   report::write_stylesheet(out);
   return result;
 }

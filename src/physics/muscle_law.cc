@@ -26,10 +26,10 @@ std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const Fp
                                                   double compliance) {
   const double rest = law.rest_length, c = compliance;
   const double onset_length = rest * (1.0 - force_law.elastic_onset());
-  const auto force_at = [&](double l) { return force_law((rest - l) / rest); };
-  // Where the residual crosses zero: beyond u_e (l < l_e, no elastic term) or before it.
+  // Where the residual crosses zero: beyond u_e (l < l_e, no elastic term) or before it; at l_e the contraction
+  // ratio is epsilon_0 itself.
   const double u_onset = length > onset_length ? (length - onset_length) / c : 0.0;
-  const bool elastic = length > onset_length && force_at(onset_length) < u_onset * u_onset;
+  const bool elastic = length > onset_length && force_law(force_law.elastic_onset()) < u_onset * u_onset;
   const FpamForceLaw::Quadratic q = force_law.quadratic(elastic);
   const double a = q.c2 / (rest * rest), b = q.c1 / rest, d = q.c0;
   const double a2 = a * c * c - 1.0, a1 = -c * (2.0 * a * length + b), a0 = (a * length + b) * length + d;

@@ -53,14 +53,14 @@ void validate(const Placement& placement, double wrist_radius);
 // The muscle's path at a joint angle [rad], |joint_angle| <= pi.
 MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle);
 
-// What of the path depends on the placement alone (validated once: R1, R2, psi and phi at zero), for loops over
-// many angles at one placement (the design objective's reference angles). at(theta) == muscle_path(..., theta).
 // A joint angle with its cosine and sine, for loops that visit the same angles at many placements.
 struct JointAngle {
   explicit JointAngle(double angle) : radians(angle), cos(std::cos(angle)), sin(std::sin(angle)) {}
   double radians, cos, sin;
 };
 
+// What of the path depends on the placement alone (validated once: R1, R2, psi and phi at zero), for loops over
+// many angles at one placement (the design objective's reference angles). at(theta) == muscle_path(..., theta).
 class PlacementGeometry {
  public:
   PlacementGeometry(const Placement& placement, double wrist_radius);  // validate(placement, wrist_radius)

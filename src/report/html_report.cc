@@ -80,6 +80,18 @@ void run_plot_script(const std::string& name, const std::vector<std::string>& ar
   }
 }
 
+std::string plot_figures(const fs::path& dir, std::vector<std::string>& files) {
+  std::string html;
+  for (const auto& plot : read_json(dir / "plots.json")) {
+    const std::string file = plot.value("file", "");
+    if (!fs::is_regular_file(dir / file)) throw std::runtime_error("report: plot " + file + " was not written");
+    files.push_back(file);
+    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
+                        html_escape(file), html_escape(plot.value("caption", "")));
+  }
+  return html;
+}
+
 std::string html_escape(const std::string& text) {
   std::string out;
   out.reserve(text.size());
@@ -181,20 +193,6 @@ std::string metrics_section(const std::string& kind, const nlohmann::json& summa
   return html;
 }
 
-// The figures plot_run.py listed in plots.json; each file must exist in `out`. Appends the files to `files`.
-std::string plots_section(const nlohmann::json& plots, const fs::path& out, std::vector<std::string>& files) {
-  std::string html;
-  if (!plots.empty()) html += "<h2>Plots</h2>\n";
-  for (const auto& plot : plots) {
-    const std::string file = plot.value("file", "");
-    if (!fs::is_regular_file(out / file)) throw std::runtime_error("report: plot " + file + " was not written");
-    files.push_back(file);
-    html += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>\n",
-                        html_escape(file), html_escape(plot.value("caption", "")));
-  }
-  return html;
-}
-
 // Renders the run's moments into `out`, appending the files to `files`; empty when the run has none.
 std::string renders_section(const fs::path& run_dir, const fs::path& out, std::vector<std::string>& files) {
   const RunMoments run = run_moments(run_dir);
@@ -244,10 +242,10 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
   fs::create_directories(out);
 
   ReportResult result{.page = out / "index.html"};
-  nlohmann::json plots = nlohmann::json::array();
+  std::string figures;
   if (options.plots) {
     run_plot_script("plot_run.py", {run_dir.string(), out.string()});
-    plots = read_json(out / "plots.json");
+    figures = plot_figures(out, result.plots);
   }
 
   const nlohmann::json& config = at(sidecar, {"config"});
@@ -255,7 +253,7 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& options)
   std::string html = page_head(title, config.is_object() ? config.value("description", "") : "");
   html += summary_box(summary_lines(kind, summary));
   html += metrics_section(kind, summary);
-  html += plots_section(plots, out, result.plots);
+  if (!figures.empty()) html += "<h2>Plots</h2>\n" + figures;
   if (options.renders) html += renders_section(run_dir, out, result.renders);
   html += what_was_run_section(sidecar, config, summary);
   html += page_end();

@@ -35,6 +35,10 @@ std::vector<std::string> summary_lines(const std::string& kind, const nlohmann::
 
 std::string html_escape(const std::string& text);
 
+// The figures a plot script listed in DIR/plots.json, in page order: a <figure> with its caption each. Appends the
+// files to `files`; throws naming a missing or malformed plots.json, or a listed plot that was not written.
+std::string plot_figures(const std::filesystem::path& dir, std::vector<std::string>& files);
+
 // Runs one of the report's matplotlib scripts (src/report/NAME, or where it is installed) with `args`; throws
 // naming the script and how to do without plots.
 void run_plot_script(const std::string& name, const std::vector<std::string>& args);

@@ -34,8 +34,7 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   r.width = width;
   r.height = height;
   r.quality = quality;
-  r.image = {width, height, std::vector<unsigned char>(static_cast<std::size_t>(width) * height * 3)};
-  r.bottom_up.resize(r.image.rgb.size());
+  r.image = {width, height, {}};  // read_pixels sizes its buffers on the first frame and reuses them after
   r.context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   if (r.context == nullptr)
     throw std::runtime_error("OSMesa could not create a rendering context (is libosmesa6 installed?)");
@@ -60,8 +59,7 @@ OffscreenRenderer::OffscreenRenderer(const sim::Model& model, int width, int hei
   mjr_setBuffer(mjFB_OFFSCREEN, &r.render_context);
   if (r.render_context.offWidth < width || r.render_context.offHeight < height) {
     throw std::runtime_error(
-        fmt::format("the model's offscreen buffer ({}x{}) is smaller than {}x{}: raise "
-                    "<visual><global offwidth offheight>",
+        fmt::format("the offscreen buffer OSMesa made ({}x{}) is smaller than the {}x{} asked for (its size limit)",
                     r.render_context.offWidth, r.render_context.offHeight, width, height));
   }
 }

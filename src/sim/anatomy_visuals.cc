@@ -8,13 +8,13 @@
 
 #include <fmt/format.h>
 
+#include "physics/units.h"
+#include "sim/model_builder.h"
+
 namespace softwrist::sim {
 namespace {
 
 using Vec3 = std::array<double, 3>;
-
-// A muscle's side in the forearm frame (model_builder.h): flexor palmar (-z), extensor dorsal, ulnar -y, radial +y.
-constexpr std::array<Vec3, 4> kSides = {{{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}}};
 constexpr double kReferenceHandLength = 0.19;  // [m] the sizes below are for this hand (Hand::length's default)
 
 // Matte skin, the glove's and band's dark fabric, the IMUs' boards, the stand-offs' grey plastic, a checkered
@@ -88,12 +88,11 @@ double extent(const CrossSection& c, const Vec3& side) {
   return std::abs(side[1]) * c.half_width + std::abs(side[2]) * c.half_thickness;
 }
 
-// The factor (<= 1) that keeps each mount at least 2 mm outside the surface.
-double clearance_scale(const Profile& profile, const std::vector<std::pair<double, double>>& x_and_w,
-                       const std::vector<Vec3>& sides) {
+// The factor (<= 1) that keeps each muscle's mount, at (x, w) on its side, at least 2 mm outside the surface.
+double clearance_scale(const Profile& profile, const std::array<std::pair<double, double>, 4>& x_and_w) {
   double scale = 1.0;
   for (std::size_t i = 0; i < x_and_w.size(); ++i) {
-    const double reach = extent(profile(x_and_w[i].first), sides[i]);
+    const double reach = extent(profile(x_and_w[i].first), kMuscleSides[i]);
     if (reach > 0.0) scale = std::min(scale, std::max(0.3, (x_and_w[i].second - 0.002) / reach));
   }
   return scale;
@@ -106,8 +105,8 @@ Profile scaled(const Profile& profile, double scale) {
   };
 }
 
-// A mount: a marker at the mount and, where the mount stands off the surface, a post from the surface to it (the
-// paper's 3D-printed stand-off, Fig. EndpointAttachment(c)).
+// Where a mount stands off the surface, a post from the surface to it (the paper's 3D-printed stand-off,
+// Fig. EndpointAttachment(c)); the mount's marker itself is its site (model_builder.cc).
 std::string mount_geoms(const std::string& name, const Vec3& mount, const Vec3& side, double surface) {
   const double standoff = std::abs(mount[1] * side[1] + mount[2] * side[2]) - surface;
   std::string geoms;
@@ -138,7 +137,7 @@ constexpr std::array<Finger, 4> kFingers = {{
 
 // Direction of a phalanx: `flex` towards palmar (-z), `spread` towards radial (+y).
 Vec3 phalanx_direction(double flex_deg, double spread_deg) {
-  const double f = flex_deg * std::numbers::pi / 180.0, s = spread_deg * std::numbers::pi / 180.0;
+  const double f = units::deg_to_rad(flex_deg), s = units::deg_to_rad(spread_deg);
   return {std::cos(f) * std::cos(s), std::cos(f) * std::sin(s), -std::sin(f)};
 }
 
@@ -219,29 +218,28 @@ AnatomyVisuals anatomy_visuals(const DeviceDescription& device) {
   const double forearm_length = drawn_forearm_length(device);
   const double palm_length = 0.41 * device.hand.length;
 
-  std::vector<std::pair<double, double>> forearm_mounts, hand_mounts;
-  std::vector<Vec3> sides(kSides.begin(), kSides.end());
-  for (const MuscleMount& m : device.muscles) {
-    forearm_mounts.push_back({-m.placement.d1, m.placement.w1});
-    hand_mounts.push_back({std::clamp(m.placement.d2, 0.0, palm_length), m.placement.w2});
+  std::array<std::pair<double, double>, 4> forearm_mounts, hand_mounts;
+  for (std::size_t i = 0; i < device.muscles.size(); ++i) {
+    const physics::Placement& p = device.muscles[i].placement;
+    forearm_mounts[i] = {-p.d1, p.w1};
+    hand_mounts[i] = {std::clamp(p.d2, 0.0, palm_length), p.w2};
   }
-  // The elbow band over the forearm mounts, 3 mm proud of the skin.
+  // The elbow band, 3 mm proud of the skin: from the forearm's end to 2.5 cm past the farthest forearm mount (at
+  // least 3 cm wide, and short of the wrist).
   const Profile natural_forearm = forearm_profile(forearm_length, s);
   const Profile band_over = [&](double x) {
     const CrossSection c = natural_forearm(x);
     return CrossSection{c.half_width + 0.003, c.half_thickness + 0.003};
   };
-  const double forearm_scale = clearance_scale(band_over, forearm_mounts, sides);
+  const double forearm_scale = clearance_scale(band_over, forearm_mounts);
   const Profile forearm = scaled(natural_forearm, forearm_scale);
   const Profile band = scaled(band_over, forearm_scale);
-  const Profile palm =
-      scaled(palm_profile(palm_length, s), clearance_scale(palm_profile(palm_length, s), hand_mounts, sides));
+  const Profile palm = scaled(palm_profile(palm_length, s), clearance_scale(palm_profile(palm_length, s), hand_mounts));
 
-  double band_from = -forearm_length, band_to = 0.0;
-  for (const auto& [x, w] : forearm_mounts) band_to = std::min(band_to, x);
-  band_from = std::max(band_from, -forearm_length + 0.004);
-  band_to = std::min(band_to + 0.025, -0.02);
-  band_from = std::min(band_from, band_to - 0.03);
+  double farthest_mount = 0.0;
+  for (const auto& [x, w] : forearm_mounts) farthest_mount = std::min(farthest_mount, x);
+  const double band_to = std::min(farthest_mount + 0.025, -0.02);
+  const double band_from = std::min(-forearm_length + 0.004, band_to - 0.03);
 
   AnatomyVisuals v;
   v.assets = std::string(kMaterials) + tube_mesh("forearm_skin", linspace(-forearm_length, 0.0, 10), forearm, 2.0) +
@@ -261,7 +259,7 @@ AnatomyVisuals anatomy_visuals(const DeviceDescription& device) {
   v.hand_geoms += digit_geoms(device.hand.length);
   for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
     const MuscleMount& m = device.muscles[i];
-    const Vec3& side = kSides[i];
+    const Vec3& side = kMuscleSides[i];
     const std::string name = kMuscleNames[i];
     v.forearm_geoms += mount_geoms(name + "_forearm", add({-m.placement.d1, 0, 0}, side, m.placement.w1), side,
                                    extent(band(-m.placement.d1), side));

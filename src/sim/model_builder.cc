@@ -13,17 +13,13 @@
 namespace softwrist::sim {
 namespace {
 
-// Unit vectors (in the forearm frame) of each muscle's 2D y axis (its side) and of its cylinder's axis.
-struct MusclePlane {
-  std::array<double, 3> side;
-  const char* cylinder_quat;  // rotates the cylinder's local z onto the joint axis
+// Each muscle's wrap cylinder: the quaternion that turns the cylinder's local z onto its joint axis.
+constexpr std::array<const char*, 4> kCylinderQuats = {
+    "0.70710678 -0.70710678 0 0",  // flexor: wraps about y
+    "0.70710678 -0.70710678 0 0",  // extensor
+    "1 0 0 0",                     // ulnar: wraps about z
+    "1 0 0 0",                     // radial
 };
-constexpr std::array<MusclePlane, 4> kPlanes = {{
-    {{0, 0, -1}, "0.70710678 -0.70710678 0 0"},  // flexor: palmar, wraps about y
-    {{0, 0, 1}, "0.70710678 -0.70710678 0 0"},   // extensor: dorsal
-    {{0, -1, 0}, "1 0 0 0"},                     // ulnar: wraps about z
-    {{0, 1, 0}, "1 0 0 0"},                      // radial
-}};
 
 // The mounts' markers: amber, neither red nor blue (those mean pressure, report/scene_style.h).
 constexpr const char* kMountRgba = "0.96 0.68 0.12 1";
@@ -55,17 +51,17 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
   for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
     const std::string name = kMuscleNames[i];
     const MuscleMount& m = device.muscles[i];
-    const MusclePlane& plane = kPlanes[i];
+    const std::array<double, 3>& side = kMuscleSides[i];
     const double r_w = m.wrist_radius;
     forearm_items += fmt::format(
         "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.008\" rgba=\"{5}\"/>\n"
         "      <geom name=\"{0}_wrap\" type=\"cylinder\" size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
         "conaffinity=\"0\" group=\"3\" rgba=\"0.8 0.8 0.8 0.3\" mass=\"0\"/>\n"
         "      <site name=\"{0}_side\" pos=\"{4}\" size=\"0.002\" group=\"3\"/>\n",
-        name, vec(-m.placement.d1, plane.side, m.placement.w1), r_w, plane.cylinder_quat,
-        vec(0.0, plane.side, 2.0 * r_w), kMountRgba);
+        name, vec(-m.placement.d1, side, m.placement.w1), r_w, kCylinderQuats[i], vec(0.0, side, 2.0 * r_w),
+        kMountRgba);
     hand_items += fmt::format("        <site name=\"{0}_hand\" pos=\"{1}\" size=\"0.008\" rgba=\"{2}\"/>\n", name,
-                              vec(m.placement.d2, plane.side, m.placement.w2), kMountRgba);
+                              vec(m.placement.d2, side, m.placement.w2), kMountRgba);
     tendons += fmt::format(
         "    <spatial name=\"{0}\" width=\"0.006\" rgba=\"0.2 0.45 0.95 1\">\n"
         "      <site site=\"{0}_forearm\"/>\n      <geom geom=\"{0}_wrap\" sidesite=\"{0}_side\"/>\n"

@@ -9,12 +9,17 @@
 // x/-y, the radial in x/+y; its forearm mount is at (-d1, w1) and its hand mount at (d2, w2) in that plane, and it
 // wraps around its own cylinder of radius r_w along its joint axis, on its own side (a sidesite).
 
+#include <array>
 #include <string>
 
 #include "physics/exosuit_layout.h"
 #include "sim/device.h"
 
 namespace softwrist::sim {
+
+// Each muscle's side in the forearm frame (its 2D y axis, torque_geometry.h), in kMuscleNames' order: the flexor
+// palmar (-z), the extensor dorsal (+z), the ulnar muscle -y, the radial +y. The mounts and the drawing use it.
+inline constexpr std::array<std::array<double, 3>, 4> kMuscleSides = {{{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}}};
 
 enum class ActuatorKind {
   kFpamPlugin,  // <general> with user dynamics/gain/bias, configured for softwrist.fpam
