@@ -14,10 +14,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_run import categorical_x  # noqa: E402  (one rule for both scripts' metadata)
+from plot_run import save  # noqa: E402  (one type size and one rule for both scripts' plots.json)
 
-plt.rcParams.update({"font.size": 10, "axes.titlesize": 10, "legend.fontsize": 9, "xtick.labelsize": 9,
-                     "ytick.labelsize": 9})
 MUSCLES = ["flexor", "extensor", "ulnar", "radial"]
 X_AXES = {"torque_sweep": ("angle_deg", "wrist angle [deg] (flexion +)"),
           "tensile": ("contraction", "contraction ratio [-]")}
@@ -29,15 +27,6 @@ CHANNELS = ["flexion/extension", "ulnar/radial", "flexor pressure", "extensor pr
 
 def number(text):
     return float(text) if text != "" else float("nan")
-
-
-def save(fig, out, name, caption, plots):
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, name), dpi=100)
-    plots.append({"file": name, "caption": caption,
-                  "axes": [{"xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(), "x_categorical": categorical_x(ax)}
-                           for ax in fig.axes if ax.get_label() != "<colorbar>"]})
-    plt.close(fig)
 
 
 def trajectory_panels(axes, rows, unit):
@@ -119,7 +108,7 @@ def main(out):
                 what = "by pressure; points measured, dashed lines the nominal model, solid the corrected"
             ax.legend(loc="best")
         save(fig, out, f"trial_{index:02d}.png", f"{name} ({kind.replace('_', ' ')}): real data beside the nominal "
-             f"and the corrected model, {what}.", plots)
+             f"and the corrected model, {what}.", plots, dpi=100)
 
     cells = defaultdict(list)
     with open(os.path.join(out, "residual_map.csv")) as f:
@@ -139,7 +128,8 @@ def main(out):
         ax.set_xlabel("wrist angle [deg] (flexion +)")
         ax.set_ylabel("pressure [kPa]")
         save(fig, out, f"residual_map_{index:02d}.png", f"Where the nominal model misses in {name}: the systematic "
-             "residual over angle and pressure, in units of what noise alone would give (x: significant).", plots)
+             "residual over angle and pressure, in units of what noise alone would give (x: significant).", plots,
+             dpi=100)
     with open(os.path.join(out, "plots.json"), "w") as f:
         json.dump(plots, f, indent=1)
 

@@ -53,9 +53,9 @@ def categorical_x(ax):
     return bool(texts) and not all(number(t) for t in texts)
 
 
-def save(fig, out_dir, name, caption, plots):
+def save(fig, out_dir, name, caption, plots, dpi=110):
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, name), dpi=110)  # draws the figure: its tick labels are known from here
+    fig.savefig(os.path.join(out_dir, name), dpi=dpi)  # draws the figure: its tick labels are known from here
     plots.append({"file": name, "caption": caption, "axes": axes_labels(fig)})
     plt.close(fig)
 
