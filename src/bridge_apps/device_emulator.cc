@@ -55,6 +55,15 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
       if (c.effects.regulator_dead_time_s > 1.0) g.fail("dead_time_s", "is above 1 s");
       g.finish();
     }
+    if (e.has("passive_wrist")) {
+      io::JsonReader w = e.child("passive_wrist");
+      c.effects.wrist_stiffness_scale = w.positive("stiffness_scale", 1.0);
+      c.effects.wrist_damping_scale = w.positive("damping_scale", 1.0);
+      if (c.effects.wrist_stiffness_scale > 10 || c.effects.wrist_damping_scale > 10) {
+        w.fail("stiffness_scale", "the relaxed wrist's scales must be within 0..10");
+      }
+      w.finish();
+    }
     if (e.has("imu")) {
       io::JsonReader i = e.child("imu");
       c.effects.imu_noise_std_deg = i.non_negative("noise_std_deg", 0.0);
@@ -93,25 +102,30 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
   return c;
 }
 
+sim::DeviceDescription emulated_description(const EmulatorConfig& config) {
+  sim::DeviceDescription d = sim::load_device(config.model);
+  const EmulatorEffects& fx = config.effects;
+  if (fx.mount_stiffness) {
+    d.mount_stiffness = *fx.mount_stiffness;
+    d.stretch_mode = physics::StretchMode::kSelfConsistent;
+  }
+  if (fx.regulator_time_constant_s) d.regulator.time_constant = *fx.regulator_time_constant_s;
+  d.wrist.stiffness_fe *= fx.wrist_stiffness_scale;
+  d.wrist.stiffness_ur *= fx.wrist_stiffness_scale;
+  d.wrist.damping_fe *= fx.wrist_damping_scale;
+  d.wrist.damping_ur *= fx.wrist_damping_scale;
+  return d;
+}
+
 // The simulated exosuit behind the emulated firmware.
 struct DeviceEmulator::Device {
   explicit Device(const EmulatorConfig& config)
-      : simulated(description_of(config), sim::ModelOptions{.gravity = config.gravity}),
+      : simulated(emulated_description(config), sim::ModelOptions{.gravity = config.gravity}),
         plant(simulated.model, units::pa_to_kpa(simulated.description.regulator.max_pressure),
               sim::ImuModel{.period_s = kDataPeriodMs / 1000.0,
                             .noise_std_deg = config.effects.imu_noise_std_deg,
                             .bias_limit_deg = 0.0,
                             .seed = config.seed}) {}
-
-  static sim::DeviceDescription description_of(const EmulatorConfig& config) {
-    sim::DeviceDescription d = sim::load_device(config.model);
-    if (config.effects.mount_stiffness) {
-      d.mount_stiffness = *config.effects.mount_stiffness;
-      d.stretch_mode = physics::StretchMode::kSelfConsistent;
-    }
-    if (config.effects.regulator_time_constant_s) d.regulator.time_constant = *config.effects.regulator_time_constant_s;
-    return d;
-  }
 
   experiments::SimulatedDevice simulated;
   sim::SimulatedPlant plant;

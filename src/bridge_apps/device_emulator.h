@@ -31,6 +31,7 @@
 #include "bridge/serial_port.h"
 #include "bridge/wire_format.h"
 #include "physics/mount_stretch.h"
+#include "sim/device.h"
 
 namespace softwrist::bridge {
 
@@ -39,6 +40,8 @@ inline constexpr const char* kEmulatorFormat = "softwrist.emulator/1";
 struct EmulatorEffects {
   std::optional<physics::MountStiffness> mount_stiffness;  // [N/m^2]; replaces the placement file's
   std::optional<double> regulator_time_constant_s;         // replaces the placement file's
+  double wrist_stiffness_scale = 1.0;                      // the relaxed wrist's stiffness, both axes, times this
+  double wrist_damping_scale = 1.0;                        // and its damping
   double regulator_dead_time_s = 0.0;
   double imu_noise_std_deg = 0.0;
   double imu_bias_fe_deg = 0.0, imu_bias_ur_deg = 0.0;
@@ -66,6 +69,11 @@ struct EmulatorConfig {
 EmulatorConfig load_emulator_config(const std::filesystem::path& path);
 
 // A moment the device vented (all regulator setpoints to 0, supply valve closed).
+// The emulated device's own description: the placement file with the effects that live in it applied (mounts,
+// regulator time constant, relaxed wrist). What a model of the emulated device would be if it were exact, less the
+// dead time and the IMU effects, which act outside the placement (the calibration benchmark's "true model").
+sim::DeviceDescription emulated_description(const EmulatorConfig& config);
+
 struct VentEvent {
   std::uint32_t t_ms = 0;      // device clock: ms since the device started
   std::string cause;           // "emergency stop", "zero command", "watchdog: no command", "watchdog: no IMU"

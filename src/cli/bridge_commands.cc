@@ -15,6 +15,7 @@
 #include "cli/arguments.h"
 #include "cli/stop_signals.h"
 #include "experiments/experiment.h"
+#include "experiments/tracking.h"
 #include "physics/exosuit_layout.h"
 
 namespace softwrist::cli {
@@ -28,15 +29,12 @@ struct EmulateOptions {
 
 struct TrialCommandOptions {
   std::string config;
-  std::string device;
-  std::string emulator;  // instead of a device: the emulator on one simulated clock
+  BridgeCommandOptions bridge;
   std::string out;
+  std::string model;  // the model_based controller's placement file
   std::vector<std::string> controllers;
   int repetitions = 0;
   double rest_s = 1.0;
-  double max_kpa = physics::kRegulatorMaxPressureKpa;
-  int timeout_ms = 40;
-  int baud = 115200;
   bool overwrite = false;
 };
 
@@ -108,29 +106,65 @@ void run_trial_on(const TrialCommandOptions& options, const experiments::Experim
   }
 }
 
+bridge::BridgeOptions check_bridge_options(const BridgeCommandOptions& o) {
+  if (!(o.max_kpa > 0.0 && o.max_kpa <= physics::kRegulatorMaxPressureKpa)) {
+    throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
+  }
+  if (o.device.empty() == o.emulator.empty()) throw UsageError("give one of --device and --emulator");
+  if (o.timeout_ms < 1 || o.timeout_ms > 1000) throw UsageError("--timeout-ms must be 1..1000");
+  bridge::BridgeOptions b;
+  b.limits.max_dkpa = static_cast<int32_t>(o.max_kpa * 10.0);
+  b.limits.timeout_ms = static_cast<std::uint32_t>(o.timeout_ms);
+  return b;
+}
+
+}  // namespace
+
+void on_bridge(const BridgeCommandOptions& o,
+               const std::function<void(bridge::BridgePlant& plant, const std::string& where)>& use) {
+  const bridge::BridgeOptions bridge_options = check_bridge_options(o);
+  if (!o.emulator.empty()) {
+    // The lock-step rig (issue 27): the same firmware rules, bytes and host, on one simulated clock, so the
+    // rehearsal's result does not depend on how busy the machine is.
+    bridge::DeviceEmulator emulator(bridge::load_emulator_config(o.emulator));
+    bridge::LockstepLink rig(emulator, {.baud = o.baud});
+    bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
+    use(plant, fmt::format("the emulator {} (simulated time)", o.emulator));
+    return;
+  }
+  bridge::BridgePlant plant(bridge::SerialPort::Open(o.device, o.baud), bridge_options);
+  use(plant, o.device);
+}
+
+void add_bridge_options(CLI::App& command, BridgeCommandOptions& o) {
+  auto* device_option = command.add_option("--device", o.device, "Serial device: /dev/ttyACM0, or the emulator's link");
+  command
+      .add_option("--emulator", o.emulator,
+                  "Instead of --device: the device emulator of this config (softwrist.emulator/1) and the host on "
+                  "one simulated clock, in this process (the same result on any machine, however busy)")
+      ->check(CLI::ExistingFile)
+      ->excludes(device_option);
+  command.add_option("--max-kpa", o.max_kpa, "The host's pressure limit (the device's applies too)");
+  command.add_option("--timeout-ms", o.timeout_ms,
+                     "The host's watchdog: no valid data, or no command of its own, for this long stops the "
+                     "trial (the device's applies too; the shorter wins); default 40");
+  command.add_option("--baud", o.baud, "Serial speed");
+}
+
+namespace {
+
 void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& err) {
   if (options.repetitions < 0) throw UsageError("--repetitions must be >= 1");
   if (!(options.rest_s >= 0.0)) throw UsageError("--rest-s must be >= 0");
-  if (!(options.max_kpa > 0.0 && options.max_kpa <= physics::kRegulatorMaxPressureKpa)) {
-    throw UsageError("--max-kpa must be in (0, 137]: the QB3 regulators' range");
+  experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
+  if (!options.model.empty()) {
+    if (!experiments::set_controller_model(config.json, std::filesystem::absolute(options.model))) {
+      throw UsageError(fmt::format("--model: {} has no model_based controller to give it to", options.config));
+    }
   }
-  if (options.device.empty() == options.emulator.empty()) throw UsageError("give one of --device and --emulator");
-  const experiments::ExperimentConfig config = experiments::load_experiment_config(options.config);
-  bridge::BridgeOptions bridge_options;
-  bridge_options.limits.max_dkpa = static_cast<int32_t>(options.max_kpa * 10.0);
-  if (options.timeout_ms < 1 || options.timeout_ms > 1000) throw UsageError("--timeout-ms must be 1..1000");
-  bridge_options.limits.timeout_ms = static_cast<std::uint32_t>(options.timeout_ms);
-  if (!options.emulator.empty()) {
-    // The lock-step rig (issue 27): the same firmware rules, bytes and host, on one simulated clock, so the
-    // rehearsal's result does not depend on how busy the machine is.
-    bridge::DeviceEmulator emulator(bridge::load_emulator_config(options.emulator));
-    bridge::LockstepLink rig(emulator, {.baud = options.baud});
-    bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
-    run_trial_on(options, config, plant, fmt::format("the emulator {} (simulated time)", options.emulator), out, err);
-    return;
-  }
-  bridge::BridgePlant plant(bridge::SerialPort::Open(options.device, options.baud), bridge_options);
-  run_trial_on(options, config, plant, options.device, out, err);
+  on_bridge(options.bridge, [&](bridge::BridgePlant& plant, const std::string& where) {
+    run_trial_on(options, config, plant, where, out, err);
+  });
 }
 
 struct SoakCommandOptions {
@@ -194,14 +228,7 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("config", trial_options->config, "Tracking experiment config (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
-  auto* device_option = trial_command->add_option("--device", trial_options->device,
-                                                  "Serial device: /dev/ttyACM0, or the emulator's link");
-  trial_command
-      ->add_option("--emulator", trial_options->emulator,
-                   "Instead of --device: the device emulator of this config (softwrist.emulator/1) and the host on "
-                   "one simulated clock, in this process (the same result on any machine, however busy)")
-      ->check(CLI::ExistingFile)
-      ->excludes(device_option);
+  add_bridge_options(*trial_command, trial_options->bridge);
   trial_command->add_option("--out", trial_options->out, "Trial directory; default trials/<config name>");
   trial_command->add_option("--controller", trial_options->controllers,
                             "Run only this controller (repeatable); default: every controller of the config");
@@ -209,12 +236,11 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   trial_command->add_option("--rest-s", trial_options->rest_s,
                             "Vented pause before each run, while the subject holds the "
                             "wrist at neutral for zeroing [s]");
-  trial_command->add_option("--max-kpa", trial_options->max_kpa,
-                            "The host's pressure limit (the device's applies too)");
-  trial_command->add_option("--timeout-ms", trial_options->timeout_ms,
-                            "The host's watchdog: no valid data, or no command of its own, for this long stops the "
-                            "trial (the device's applies too; the shorter wins); default 40");
-  trial_command->add_option("--baud", trial_options->baud, "Serial speed");
+  trial_command
+      ->add_option("--model", trial_options->model,
+                   "The model_based controller's model of the device (a placement file, e.g. a calibration's "
+                   "calibrated.json); default: the config's")
+      ->check(CLI::ExistingFile);
   trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");
   trial_command->callback([trial_options, &out, &err] { trial(*trial_options, out, err); });
 

@@ -7,6 +7,7 @@
 #include "cli/arguments.h"
 #include "cli/bench_commands.h"
 #include "cli/bridge_commands.h"
+#include "cli/calibrate_command.h"
 #include "cli/diagnose_commands.h"
 #include "cli/generate_command.h"
 #include "cli/model_commands.h"
@@ -35,6 +36,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_personalize_command(app, out);
   add_view_command(app, out);
   add_bridge_commands(app, out, err);
+  add_calibrate_command(app, out, err);
   add_diagnose_commands(app, out, err);
   add_generate_command(app, out);
 

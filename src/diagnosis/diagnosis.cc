@@ -10,6 +10,7 @@
 #include "common/parallel_for.h"
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
+#include "diagnosis/joint_refit.h"
 #include "diagnosis/tolerance_fit.h"
 
 namespace softwrist::diagnosis {
@@ -375,6 +376,10 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.effects = fit_each_effect(problem, reference, nominal_device, options);
   Combination combination =
       combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);
+  if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
+    combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
+    combination.full = problem.evaluate(combination.model, false);
+  }
   d.combination = std::move(combination.effects);
   d.corrected.emplace(combination.model);
   d.corrected_predictions = combination.full;

@@ -56,6 +56,9 @@ struct DiagnosisOptions {
   // leaves one, so that a device differing from its placement file only within its tolerances is `none`.
   Tolerances tolerances;
   int tolerance_evaluations = 200;  // the tolerance fit's budget of replays (its Jacobians included)
+  // After the greedy combination, refit all its parameters together (joint_refit.h) with this budget of replays; 0:
+  // not (the diagnosis names causes, for which the greedy values do; a calibration needs the values).
+  int joint_refit_evaluations = 0;
 };
 
 // The nominal within its tolerances: the values the free parameters took inside their boxes, and the model they give,

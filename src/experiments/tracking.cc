@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "control/excitation_controller.h"
 #include "control/model_based_controller.h"
 #include "control/paper_controller.h"
 #include "control/tracking_metrics.h"
@@ -55,6 +56,17 @@ control::ModelBasedParameters read_model_based_parameters(io::JsonReader& r, dou
   return p;
 }
 
+control::ExcitationRoutineParameters read_excitation_parameters(io::JsonReader& r) {
+  control::ExcitationRoutineParameters p;
+  if (r.has("step_levels_kpa")) p.step_levels_kpa = r.numbers("step_levels_kpa");
+  p.hold_s = r.positive("hold_s", p.hold_s);
+  p.ramp_s = r.positive("ramp_s", p.ramp_s);
+  p.co_contraction_kpa = r.non_negative("co_contraction_kpa", p.co_contraction_kpa);
+  p.start_rest_s = r.non_negative("start_rest_s", p.start_rest_s);
+  p.edge_rate_kpa_s = r.positive("edge_rate_kpa_s", p.edge_rate_kpa_s);
+  return p;
+}
+
 std::unique_ptr<control::Trajectory> read_trajectory(io::JsonReader& r) {
   const std::string type = r.text("type");
   if (type == "steps") {
@@ -97,17 +109,59 @@ control::AxisFlags read_active_pairs(io::JsonReader& r) {
 
 }  // namespace
 
+bool set_controller_model(nlohmann::json& config, const std::filesystem::path& placement) {
+  bool found = false;
+  if (!config.contains("controllers") || !config["controllers"].is_array()) return false;
+  for (nlohmann::json& c : config["controllers"]) {
+    if (c.is_object() && c.value("name", "") == "model_based") {
+      c["model"] = placement.string();
+      found = true;
+    }
+  }
+  return found;
+}
+
+void Tracking::read_controllers(io::JsonReader& reader, const ExperimentConfig& config, double max_kpa) {
+  const nlohmann::json& list = reader.raw("controllers");
+  if (!list.is_array() || list.empty()) reader.fail("controllers", "must be a non-empty list of controllers");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    io::JsonReader c(list[i], reader.source(), fmt::format("controllers[{}]", i));
+    const std::string name = c.text("name");
+    if (name == "paper") {
+      const auto p = read_paper_parameters(c, max_kpa);
+      controllers_.push_back({name, [p] { return std::make_unique<control::PaperController>(p); }});
+    } else if (name == "model_based") {
+      // The controller's own model of the device: by default the simulated one; another placement file tests how
+      // the controller copes with a model that is off.
+      const sim::DeviceDescription own =
+          c.has("model") ? sim::load_device(config_path(c, "model", config)) : device_->description;
+      const physics::WristModel wrist = sim::wrist_model(own, gravity_);
+      control::ModelBasedParameters p = read_model_based_parameters(c, max_kpa);
+      // The feedforward looks ahead by the regulators' lag: the model's time constant unless the config says.
+      if (!c.has("lead_s")) p.lead_s = own.regulator.time_constant;
+      controllers_.push_back({name, [wrist, p] { return std::make_unique<control::ModelBasedController>(wrist, p); }});
+    } else if (name == "excitation") {
+      if (list.size() != 1) c.fail("name", "the excitation routine runs alone (it is not tracking)");
+      excitation_ = control::excitation_routine(read_excitation_parameters(c), max_kpa);
+      const std::vector<control::ExcitationSegment> segments = excitation_;
+      controllers_.push_back(
+          {name, [segments, max_kpa] { return std::make_unique<control::ExcitationController>(segments, max_kpa); }});
+    } else {
+      c.fail("name", fmt::format("'{}' is not paper, model_based or excitation", name));
+    }
+    c.finish();
+    for (std::size_t j = 0; j + 1 < controllers_.size(); ++j) {
+      if (controllers_[j].name == name) c.fail("name", fmt::format("'{}' is listed twice", name));
+    }
+  }
+}
+
 std::unique_ptr<Tracking> Tracking::Create(const ExperimentConfig& config, io::JsonReader& reader) {
   auto e = std::unique_ptr<Tracking>(new Tracking());
   e->gravity_ = reader.boolean("hand_supported", false) ? 0.0 : sim::kStandardGravity;
   e->device_ = std::make_unique<SimulatedDevice>(config_path(reader, "model", config),
                                                  sim::ModelOptions{.gravity = e->gravity_});
   const double max_kpa = units::pa_to_kpa(e->device_->description.regulator.max_pressure);
-  {
-    io::JsonReader trajectory = reader.child("trajectory");
-    e->trajectory_ = read_trajectory(trajectory);
-    trajectory.finish();
-  }
   e->options_.active_axes = read_active_pairs(reader);
   e->settle_s_ = reader.non_negative("settle_s", 3.0);
   if (reader.has("imu")) {
@@ -127,30 +181,16 @@ std::unique_ptr<Tracking> Tracking::Create(const ExperimentConfig& config, io::J
   e->repetitions_ = repetitions.count;
   e->seed_ = repetitions.seed;
 
-  const nlohmann::json& list = reader.raw("controllers");
-  if (!list.is_array() || list.empty()) reader.fail("controllers", "must be a non-empty list of controllers");
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    io::JsonReader c(list[i], reader.source(), fmt::format("controllers[{}]", i));
-    const std::string name = c.text("name");
-    if (name == "paper") {
-      const auto p = read_paper_parameters(c, max_kpa);
-      e->controllers_.push_back({name, [p] { return std::make_unique<control::PaperController>(p); }});
-    } else if (name == "model_based") {
-      // The controller's own model of the device: by default the simulated one; another placement file tests how
-      // the controller copes with a model that is off.
-      const sim::DeviceDescription own =
-          c.has("model") ? sim::load_device(config_path(c, "model", config)) : e->device_->description;
-      const physics::WristModel wrist = sim::wrist_model(own, e->gravity_);
-      const auto p = read_model_based_parameters(c, max_kpa);
-      e->controllers_.push_back(
-          {name, [wrist, p] { return std::make_unique<control::ModelBasedController>(wrist, p); }});
-    } else {
-      c.fail("name", fmt::format("'{}' is not paper or model_based", name));
-    }
-    c.finish();
-    for (std::size_t j = 0; j + 1 < e->controllers_.size(); ++j) {
-      if (e->controllers_[j].name == name) c.fail("name", fmt::format("'{}' is listed twice", name));
-    }
+  e->read_controllers(reader, config, max_kpa);
+  if (e->controllers_.size() == 1 && e->controllers_[0].name == "excitation") {
+    // The routine is the run: the desired angle stays at neutral for as long as it lasts.
+    if (reader.has("trajectory")) reader.fail("trajectory", "an excitation routine sets its own length; leave it out");
+    const double duration_s = control::routine_duration_s(e->excitation_);
+    e->trajectory_ = std::make_unique<control::StepTrajectory>(std::vector<control::WristAngles>{{}}, duration_s);
+  } else {
+    io::JsonReader trajectory = reader.child("trajectory");
+    e->trajectory_ = read_trajectory(trajectory);
+    trajectory.finish();
   }
   return e;
 }

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "control/controller.h"
+#include "control/excitation_controller.h"
 #include "control/tracking_loop.h"
 #include "control/trajectory.h"
 #include "experiments/experiment.h"
@@ -22,6 +23,10 @@ namespace softwrist::experiments {
 // the measured pressures), and one loop iteration's row in them.
 std::vector<Column> tracking_columns();
 Row tracking_row(int repetition, const std::string& controller, const control::TrackingSample& sample);
+
+// Gives every model_based controller of a tracking config `placement` as its model of the device (the config's
+// "model" of that controller). Returns false when the config has none.
+bool set_controller_model(nlohmann::json& config, const std::filesystem::path& placement);
 
 class Tracking final : public Experiment {
  public:
@@ -41,14 +46,20 @@ class Tracking final : public Experiment {
   sim::SimulatedPlant make_plant(std::uint64_t imu_seed) const;
   const control::TrackingOptions& options() const { return options_; }
   int repetitions() const { return repetitions_; }
+  // The excitation routine's schedule when the config's controller is "excitation"; empty otherwise.
+  const std::vector<control::ExcitationSegment>& excitation() const { return excitation_; }
 
  private:
   struct ControllerSpec {
     std::string name;
     std::function<std::unique_ptr<control::Controller>()> make;
   };
+  // The config's "controllers" list (the excitation routine, when it is the one, into excitation_).
+  void read_controllers(io::JsonReader& reader, const ExperimentConfig& config, double max_kpa);
+
   std::unique_ptr<SimulatedDevice> device_;
   std::vector<ControllerSpec> controllers_;
+  std::vector<control::ExcitationSegment> excitation_;
   std::unique_ptr<control::Trajectory> trajectory_;
   control::TrackingOptions options_;
   sim::ImuModel imu_;

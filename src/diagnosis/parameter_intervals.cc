@@ -1,0 +1,115 @@
+#include "diagnosis/parameter_intervals.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "diagnosis/gap_problem.h"
+#include "diagnosis/joint_refit.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+// One fitted parameter: which effect of the combination, which of its values.
+struct Slot {
+  std::size_t effect = 0, index = 0;
+  const ParameterSpec* spec = nullptr;
+};
+
+// Every measurement's residual in units of its trial's noise; `rho` gets the largest lag-1 autocorrelation of a
+// trial's residuals.
+std::vector<double> weighted_residuals(const std::vector<PreparedTrial>& prepared, const Predictions& predictions,
+                                       double* rho) {
+  std::vector<double> out;
+  if (rho) *rho = 0.0;
+  for (std::size_t t = 0; t < prepared.size(); ++t) {
+    const std::vector<double> r = residuals_of(prepared[t], predictions[t]);
+    const double noise = prepared[t].noise > 0.0 ? prepared[t].noise : 1.0;
+    double lag0 = 0.0, lag1 = 0.0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      out.push_back(r[i] / noise);
+      lag0 += r[i] * r[i];
+      if (i > 0) lag1 += r[i] * r[i - 1];
+    }
+    if (rho && lag0 > 0.0 && r.size() > 10) *rho = std::max(*rho, lag1 / lag0);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const sim::DeviceDescription& nominal,
+                                                     ReplayEngine& engine) {
+  if (d.combination.empty()) return {};
+  std::vector<PreparedTrial> prepared = d.prepared;
+  const GapProblem problem(prepared, engine);
+  std::vector<std::vector<double>> values;
+  std::vector<Slot> slots;
+  for (std::size_t e = 0; e < d.combination.size(); ++e) {
+    values.push_back(d.combination[e].values);
+    const EffectSpec& spec = effect_spec(d.combination[e].id);
+    for (std::size_t i = 0; i < spec.parameters.size(); ++i) slots.push_back({e, i, &spec.parameters[i]});
+  }
+  double rho = 0.0;
+  const std::vector<double> r0 =
+      weighted_residuals(prepared, problem.evaluate(combined_variant(d.combination, values, nominal), false), &rho);
+  const auto n = static_cast<Eigen::Index>(r0.size());
+  const auto p = static_cast<Eigen::Index>(slots.size());
+  // The Jacobian in the searched (unit) space, by central differences (one-sided at a bound).
+  constexpr double kStep = 0.002;
+  Eigen::MatrixXd jacobian(n, p);
+  std::vector<double> u0(slots.size());
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    const Slot& s = slots[k];
+    u0[k] = s.spec->to_unit(values[s.effect][s.index]);
+    const double up = std::min(1.0, u0[k] + kStep), down = std::max(0.0, u0[k] - kStep);
+    std::vector<double> sides[2];
+    for (int side = 0; side < 2; ++side) {
+      std::vector<std::vector<double>> moved = values;
+      moved[s.effect][s.index] = s.spec->from_unit(side == 0 ? up : down);
+      sides[side] = weighted_residuals(
+          prepared, problem.evaluate(combined_variant(d.combination, moved, nominal), false), nullptr);
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      jacobian(i, static_cast<Eigen::Index>(k)) =
+          (sides[0][static_cast<std::size_t>(i)] - sides[1][static_cast<std::size_t>(i)]) / (up - down);
+    }
+  }
+  double sum_squares = 0.0;
+  for (double r : r0) sum_squares += r * r;
+  const double s2 = sum_squares / static_cast<double>(std::max<Eigen::Index>(1, n - p));
+  rho = std::clamp(rho, 0.0, 0.999);
+  const double correlation = (1.0 + rho) / (1.0 - rho);
+  // Pseudo-inverse of J^T J: a flat direction (a parameter the data do not see) gets an unbounded variance.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(jacobian.transpose() * jacobian);
+  const double largest = eigen.eigenvalues().maxCoeff();
+  Eigen::VectorXd inverse_values = eigen.eigenvalues();
+  for (Eigen::Index i = 0; i < p; ++i) {
+    inverse_values(i) = inverse_values(i) > 1e-12 * largest && inverse_values(i) > 0.0
+                            ? 1.0 / inverse_values(i)
+                            : std::numeric_limits<double>::infinity();
+  }
+  std::vector<ParameterInterval> out;
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    double variance = 0.0;
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const double v = eigen.eigenvectors()(kk, i);
+      if (v * v > 1e-12) variance += v * v * inverse_values(i);
+    }
+    const double half = 1.959964 * std::sqrt(variance * s2 * correlation);
+    const Slot& s = slots[k];
+    const double low_u = std::isfinite(half) ? std::max(0.0, u0[k] - half) : 0.0;
+    const double high_u = std::isfinite(half) ? std::min(1.0, u0[k] + half) : 1.0;
+    out.push_back({.effect = d.combination[s.effect].name,
+                   .name = s.spec->name,
+                   .value = values[s.effect][s.index],
+                   .low = s.spec->from_unit(low_u),
+                   .high = s.spec->from_unit(high_u),
+                   .relative_width = high_u - low_u});
+  }
+  return out;
+}
+
+}  // namespace softwrist::diagnosis
