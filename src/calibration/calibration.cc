@@ -142,6 +142,13 @@ nlohmann::json write_calibration(const Calibration& c, const RoutineRecord& rout
   }
   nlohmann::json not_identified = nlohmann::json::array();
   for (const auto& u : c.not_identified) not_identified.push_back({{"what", u.effect}, {"why", u.reason}});
+  for (const std::string& part : routine.parts_not_run) {
+    not_identified.push_back(
+        {{"what", part},
+         {"why", fmt::format("did not run (the routine stopped: {}); the fitted values rest on the parts that ran and "
+                             "are applied to all four muscles",
+                             routine.fault.value_or("before its end"))}});
+  }
   const nlohmann::json out = {{"calibrated", "calibrated.json"},
                               {"effects_applied", c.effects_applied},
                               {"parameters", parameters},

@@ -10,6 +10,7 @@
 
 #include "cli/arguments.h"
 #include "cli/bridge_commands.h"
+#include "cli/calibrate_command.h"
 #include "cli/diagnose_commands.h"
 #include "experiments/design_optimization.h"
 #include "experiments/experiment.h"
@@ -302,7 +303,7 @@ int run_render_bench(const RenderBenchOptions& options, std::ostream& out) {
 
 }  // namespace
 
-void add_bench_commands(CLI::App& app, std::ostream& out) {
+void add_bench_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto* bench = app.add_subcommand("bench", "Speed figures, compared side by side in one run");
   bench->require_subcommand(1);
   auto options = std::make_shared<SimBenchOptions>();
@@ -346,6 +347,7 @@ void add_bench_commands(CLI::App& app, std::ostream& out) {
   render_bench->callback([render_options, &out] { run_render_bench(*render_options, out); });
   add_bridge_bench(*bench, out);
   add_diagnose_bench(*bench, out);
+  add_calibrate_bench(*bench, out, err);
 }
 
 }  // namespace softwrist::cli

@@ -7,6 +7,6 @@
 
 namespace softwrist::cli {
 
-void add_bench_commands(CLI::App& app, std::ostream& out);
+void add_bench_commands(CLI::App& app, std::ostream& out, std::ostream& err);
 
 }  // namespace softwrist::cli

@@ -29,7 +29,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   app.require_subcommand(1);
   app.set_version_flag("--version", SOFTWRIST_VERSION);
   add_model_commands(app, out);
-  add_bench_commands(app, out);
+  add_bench_commands(app, out, err);
   add_render_command(app, out);
   add_report_command(app, out);
   add_run_commands(app, out, err);

@@ -196,5 +196,47 @@ TEST_F(CliRun, TrialAgainstTheEmulatorInSimulatedTimeIsRepeatable) {
   EXPECT_EQ(logs[0], logs[1]);
 }
 
+// `softwrist calibrate`: bad arguments are named before anything moves; a fault during the routine ends it vented,
+// and the command fails naming the fault and the parts that did not run, after writing what the rest identified
+// (the fit itself is tested in tests/calibration/calibration_test.cc).
+TEST_F(CliRun, CalibrateNamesBadArgumentsAndAnInterruptedRoutine) {
+  const std::string placement = (kSource / "models/rom_device.json").string();
+  const std::string emulator = (kSource / "experiments/emulator/realistic.json").string();
+  const std::string routine = (kSource / "experiments/calibration_routine.json").string();
+  EXPECT_EQ(run({"calibrate", "--emulator", emulator, "--out", (dir_ / "c").string()}).code, 2);  // no --placement
+  const auto both = run({"calibrate", "--device", "/dev/null", "--emulator", emulator, "--placement", placement,
+                         "--out", (dir_ / "c").string()});
+  EXPECT_EQ(both.code, 2);
+  const auto not_routine =
+      run({"calibrate", "--emulator", emulator, "--placement", placement, "--routine",
+           (kSource / "experiments/planar_rehearsal.json").string(), "--out", (dir_ / "c").string()});
+  EXPECT_EQ(not_routine.code, 1);
+  EXPECT_THAT(not_routine.err, HasSubstr("not a calibration routine"));
+
+  // The IMUs stop answering 14 s in: the flexor's steps ran, the rest did not.
+  nlohmann::json faulty = nlohmann::json::parse(std::ifstream(emulator));
+  faulty["model"] = placement;
+  faulty["faults"] = {{"imu_stale_at_s", 14.0}};
+  std::ofstream(dir_ / "faulty.json") << faulty.dump();
+  const auto stopped = run({"calibrate", "--emulator", (dir_ / "faulty.json").string(), "--placement", placement,
+                            "--routine", routine, "--out", (dir_ / "stopped").string()});
+  EXPECT_EQ(stopped.code, 1);
+  EXPECT_THAT(stopped.err, HasSubstr("the routine stopped after"));
+  EXPECT_THAT(stopped.err, HasSubstr("IMU"));
+  EXPECT_THAT(stopped.err, HasSubstr("not run: flexor ramp, extensor steps"));
+  const nlohmann::json record = nlohmann::json::parse(std::ifstream(dir_ / "stopped" / "calibration.json"));
+  EXPECT_THAT(record["not_identified"].dump(), HasSubstr("\"what\":\"radial ramp\""));
+  EXPECT_TRUE(fs::exists(dir_ / "stopped" / "calibrated.json"));
+
+  // 5 s in: too little to fit anything, and no calibrated file.
+  faulty["faults"] = {{"imu_stale_at_s", 5.0}};
+  std::ofstream(dir_ / "faulty.json") << faulty.dump();
+  const auto early = run({"calibrate", "--emulator", (dir_ / "faulty.json").string(), "--placement", placement,
+                          "--routine", routine, "--out", (dir_ / "early").string()});
+  EXPECT_EQ(early.code, 1);
+  EXPECT_THAT(early.err, HasSubstr("nothing was identified"));
+  EXPECT_FALSE(fs::exists(dir_ / "early" / "calibrated.json"));
+}
+
 }  // namespace
 }  // namespace softwrist::cli
