@@ -6,7 +6,8 @@
 #   each a run directory with its trial log, summary.json and an HTML report (report/index.html, with plots and
 #   renders of the run's moments), two offscreen renders of the paper's device, and a video of the model-based
 #   controller on the planar steps (4x real time), and a rehearsed hardware trial (the bridge against the device
-#   emulator with a real device's effects) beside its simulation.
+#   emulator with a real device's effects) beside its simulation, the calibration of that emulated device from its own
+#   sensors (out/main/calibration/calibrated.json) and the planar steps with the model-based controller given it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -32,6 +33,14 @@ $softwrist trial experiments/planar_rehearsal.json --emulator experiments/emulat
 $softwrist run experiments/planar_rehearsal.json --out out/main/rehearsal_sim --quiet --overwrite
 $softwrist report out/main/rehearsal_trial
 $softwrist report out/main/rehearsal_sim
+# Calibration (docs/calibration.md): the excitation routine on the same emulated device, the fit of what its sensors
+# identify, and the planar steps with the model-based controller given the calibrated placement.
+$softwrist calibrate --emulator experiments/emulator/realistic.json --placement models/rom_device.json \
+  --out out/main/calibration --overwrite
+$softwrist trial experiments/planar_tracking.json --emulator experiments/emulator/realistic.json \
+  --controller model_based --repetitions 1 --model out/main/calibration/calibrated.json \
+  --out out/main/calibrated_trial --overwrite
+$softwrist report out/main/calibrated_trial
 # The gap diagnosis on the paper's case: "real" data from the paper's device (whose mounts stretch), diagnosed against
 # a nominal model that leaves the stretching out (models/paper_device_rigid_mounts.json).
 rm -rf out/main/diagnosis_real

@@ -25,7 +25,8 @@ const fs::path kSource = SOFTWRIST_SOURCE_DIR;
 
 // The routine's config with the nominal placement as its model.
 experiments::ExperimentConfig routine_config() {
-  experiments::ExperimentConfig config = experiments::load_experiment_config(kSource / "experiments/calibration_routine.json");
+  experiments::ExperimentConfig config =
+      experiments::load_experiment_config(kSource / "experiments/calibration_routine.json");
   config.json["model"] = (kSource / "models/rom_device.json").string();
   return config;
 }
@@ -68,8 +69,7 @@ double parameter(const Calibration& c, const std::string& effect, const std::str
 TEST(RealisticCalibration, RecoversInjectedEffectsAndWritesALoadableCalibratedFile) {
   const fs::path dir = fs::temp_directory_path() / ("softwrist_calibration_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const bridge::EmulatorConfig emulator =
-      bridge::load_emulator_config(kSource / "experiments/emulator/realistic.json");
+  const bridge::EmulatorConfig emulator = bridge::load_emulator_config(kSource / "experiments/emulator/realistic.json");
   const RoutineRun run = run_on(emulator, dir / "routine");
   EXPECT_FALSE(run.record.fault.has_value());
   EXPECT_NEAR(run.record.run_s, run.record.planned_s, 0.1);

@@ -26,7 +26,8 @@ TEST(ExcitationRoutine, DefaultRoutineIsShortSafeAndExcitesEachMuscleAlone) {
       EXPECT_GE(s.from_kpa[m], 0.0);
       EXPECT_LE(s.to_kpa[m], 137.0);
     }
-    const int active = static_cast<int>(std::count_if(s.to_kpa.begin(), s.to_kpa.end(), [](double v) { return v > 0; }));
+    const int active =
+        static_cast<int>(std::count_if(s.to_kpa.begin(), s.to_kpa.end(), [](double v) { return v > 0; }));
     if (active == 1 && s.from_kpa == s.to_kpa) {
       const int m = static_cast<int>(std::find_if(s.to_kpa.begin(), s.to_kpa.end(), [](double v) { return v > 0; }) -
                                      s.to_kpa.begin());
