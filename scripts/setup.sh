@@ -16,6 +16,7 @@ packages=(
   nlohmann-json3-dev              # JSON configs and results
   libfmt-dev                      # formatting
   libboost-dev                    # Boost.Math (header-only): F and chi-squared tests of the gap diagnosis
+  libsimavr-dev libelf-dev        # the firmware in the loop: a simulated ATmega328P (softwrist hil, docs/hil.md)
   libgtest-dev libgmock-dev       # tests
   libbenchmark-dev                # benchmarks
   python3-matplotlib              # report plots (softwrist report)

@@ -107,7 +107,18 @@ class DeviceUart {
   virtual void cut() = 0;
 };
 
-class DeviceEmulator {
+// A device at the end of a serial line, stepped one millisecond at a time by whoever owns the time (the lock-step
+// rig, lockstep_link.h): the emulator below, or the real firmware on a simulated board (src/hil/avr_board.h).
+class LineDevice {
+ public:
+  virtual ~LineDevice() = default;
+  // Bytes from the host, as they arrive on the line.
+  virtual void receive(const char* data, std::size_t size) = 0;
+  // The device's millisecond ending at `t_ms` (one more than the last tick's; the first tick is at 0).
+  virtual void tick(std::uint32_t t_ms, DeviceUart& uart) = 0;
+};
+
+class DeviceEmulator final : public LineDevice {
  public:
   explicit DeviceEmulator(const EmulatorConfig& config);
   ~DeviceEmulator();
@@ -119,8 +130,8 @@ class DeviceEmulator {
   //   receive: bytes from the host, acted on at the next tick, as the firmware reads its serial buffer in its loop;
   //   tick:    one pass of the firmware's loop at device time `t_ms` (one more than the last tick's).
   // tick() throws std::runtime_error when the simulated exosuit fails (an unstable simulation).
-  void receive(const char* data, std::size_t size);
-  void tick(std::uint32_t t_ms, DeviceUart& uart);
+  void receive(const char* data, std::size_t size) override;
+  void tick(std::uint32_t t_ms, DeviceUart& uart) override;
 
   // Serves a serial port (the emulator's pseudo-terminal) in real time until `stop` is set: ticks at the rate of
   // the host's monotonic clock, catching up when it fell behind. The link may go (cut, or the host gone): the

@@ -60,7 +60,7 @@ class LockstepLink::HostEnd final : public Link {
   std::string name_;
 };
 
-LockstepLink::LockstepLink(DeviceEmulator& device, LockstepOptions options)
+LockstepLink::LockstepLink(LineDevice& device, LockstepOptions options)
     : device_(device), options_(std::move(options)), uart_(std::make_unique<Uart>(*this)) {
   if (options_.baud <= 0) throw std::invalid_argument("lockstep link: the baud rate must be > 0");
   bytes_per_ms_ = options_.baud / 10.0 / 1000.0;  // 8N1: ten bits a byte

@@ -35,7 +35,7 @@ struct LockstepOptions {
 class LockstepLink final : public Clock {
  public:
   // The device's first loop pass runs at 0 ms. Throws std::invalid_argument for a baud rate <= 0.
-  explicit LockstepLink(DeviceEmulator& device, LockstepOptions options = {});
+  explicit LockstepLink(LineDevice& device, LockstepOptions options = {});
   ~LockstepLink() override;
   LockstepLink(const LockstepLink&) = delete;
   LockstepLink& operator=(const LockstepLink&) = delete;
@@ -64,7 +64,7 @@ class LockstepLink final : public Clock {
   void carry(std::deque<char>& wire, double& credit, bool to_host);
   void drop_host();
 
-  DeviceEmulator& device_;
+  LineDevice& device_;
   LockstepOptions options_;
   std::unique_ptr<Uart> uart_;
   std::optional<LineFaults> faults_;

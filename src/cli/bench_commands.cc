@@ -346,6 +346,7 @@ void add_bench_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
                          "Print {fps_640x480, fps_320x240, fps_640x480_viewer_look, frames}");
   render_bench->callback([render_options, &out] { run_render_bench(*render_options, out); });
   add_bridge_bench(*bench, out);
+  add_hil_bench(*bench, out);
   add_diagnose_bench(*bench, out);
   add_calibrate_bench(*bench, out, err);
 }

@@ -16,6 +16,7 @@
 #include "cli/stop_signals.h"
 #include "experiments/experiment.h"
 #include "experiments/tracking.h"
+#include "hil/avr_board.h"
 #include "physics/exosuit_layout.h"
 
 namespace softwrist::cli {
@@ -167,6 +168,35 @@ void trial(const TrialCommandOptions& options, std::ostream& out, std::ostream& 
   });
 }
 
+struct HilCommandOptions {
+  TrialCommandOptions trial;
+  std::string firmware = "build/firmware/softwrist_fw.elf";
+  std::string emulator = "experiments/emulator/nominal.json";  // the plant: model, posture, seed, IMU noise
+  std::string placement;                                       // instead of the emulator config's model
+};
+
+// `softwrist hil`: the trial through the real firmware on a simulated board (src/hil/avr_board.h).
+void hil(const HilCommandOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.trial.repetitions < 0) throw UsageError("--repetitions must be >= 1");
+  experiments::ExperimentConfig config = experiments::load_experiment_config(options.trial.config);
+  bridge::EmulatorConfig plant = bridge::load_emulator_config(options.emulator);
+  if (!options.placement.empty()) {
+    plant.model = std::filesystem::absolute(options.placement);
+    config.json["model"] = plant.model.string();
+  }
+  hil::AvrBoard board(options.firmware, plant);
+  bridge::LockstepLink rig(board, {.baud = options.trial.bridge.baud});
+  bridge::BridgePlant bridge_plant(rig.open_host(), rig, check_bridge_options({.emulator = options.emulator}));
+  run_trial_on(options.trial, config, bridge_plant,
+               fmt::format("the firmware {} on a simulated ATmega328P (simulated time)", options.firmware), out, err);
+  const hil::BoardStats& s = board.stats();
+  out << fmt::format(
+      "board: {:.1f} s of AVR time, {} resets, {} bytes from the firmware, {} to it, {} IMU reads; loop max {:.0f} us, "
+      "stack headroom {} bytes\n",
+      static_cast<double>(s.cycles) / 16e6, s.resets, s.bytes_from_avr, s.bytes_to_avr, s.i2c_reads,
+      static_cast<double>(s.loop_max_cycles) / 16.0, s.stack_headroom_bytes);
+}
+
 struct SoakCommandOptions {
   std::string config = "experiments/planar_rehearsal.json";
   std::string emulator = "experiments/emulator/realistic.json";
@@ -243,6 +273,26 @@ void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err) {
       ->check(CLI::ExistingFile);
   trial_command->add_flag("--overwrite", trial_options->overwrite, "Replace a trial log already in the directory");
   trial_command->callback([trial_options, &out, &err] { trial(*trial_options, out, err); });
+
+  auto hil_options = std::make_shared<HilCommandOptions>();
+  auto* hil_command = app.add_subcommand(
+      "hil",
+      "Run a tracking experiment through the bridge and the real firmware on a simulated ATmega328P (simavr) driving "
+      "the simulated exosuit, in lock-step (docs/hil.md)");
+  hil_command->add_option("config", hil_options->trial.config, "Tracking experiment config (JSON)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  hil_command->add_option("--firmware", hil_options->firmware, "The firmware ELF (scripts/build_firmware.sh)");
+  hil_command->add_option("--emulator", hil_options->emulator, "The plant: an emulator config (model, posture, noise)")
+      ->check(CLI::ExistingFile);
+  hil_command->add_option("--placement", hil_options->placement, "The plant's placement file instead of the config's")
+      ->check(CLI::ExistingFile);
+  hil_command->add_option("--out", hil_options->trial.out, "Trial directory; default trials/<config name>");
+  hil_command->add_option("--controller", hil_options->trial.controllers, "Run only this controller (repeatable)");
+  hil_command->add_option("--repetitions", hil_options->trial.repetitions,
+                          "Runs per controller; default: the config's");
+  hil_command->add_flag("--overwrite", hil_options->trial.overwrite, "Replace a trial log already in the directory");
+  hil_command->callback([hil_options, &out, &err] { hil(*hil_options, out, err); });
 
   auto soak_options = std::make_shared<SoakCommandOptions>();
   auto* soak_command = app.add_subcommand(

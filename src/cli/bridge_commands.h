@@ -30,5 +30,7 @@ void on_bridge(const BridgeCommandOptions& options,
 void add_bridge_commands(CLI::App& app, std::ostream& out, std::ostream& err);
 // `softwrist bench bridge` (bridge_bench.cc), under the bench command.
 void add_bridge_bench(CLI::App& bench, std::ostream& out);
+// `softwrist bench hil` (hil_bench.cc).
+void add_hil_bench(CLI::App& bench, std::ostream& out);
 
 }  // namespace softwrist::cli

@@ -56,14 +56,21 @@ control::ModelBasedParameters read_model_based_parameters(io::JsonReader& r, dou
   return p;
 }
 
-control::ExcitationRoutineParameters read_excitation_parameters(io::JsonReader& r) {
+control::ExcitationRoutineParameters read_excitation_parameters(io::JsonReader& r, double max_kpa) {
   control::ExcitationRoutineParameters p;
   if (r.has("step_levels_kpa")) p.step_levels_kpa = r.numbers("step_levels_kpa");
+  if (p.step_levels_kpa.empty()) r.fail("step_levels_kpa", "must list at least one pressure");
+  for (double level : p.step_levels_kpa) {
+    if (!(level > 0.0 && level <= max_kpa)) {
+      r.fail("step_levels_kpa", fmt::format("{} kPa is outside 0..{} kPa", level, max_kpa));
+    }
+  }
   p.hold_s = r.positive("hold_s", p.hold_s);
   p.ramp_s = r.positive("ramp_s", p.ramp_s);
   p.co_contraction_kpa = r.non_negative("co_contraction_kpa", p.co_contraction_kpa);
   p.start_rest_s = r.non_negative("start_rest_s", p.start_rest_s);
   p.edge_rate_kpa_s = r.positive("edge_rate_kpa_s", p.edge_rate_kpa_s);
+  if (p.co_contraction_kpa > max_kpa) r.fail("co_contraction_kpa", fmt::format("is above {} kPa", max_kpa));
   return p;
 }
 
@@ -142,7 +149,7 @@ void Tracking::read_controllers(io::JsonReader& reader, const ExperimentConfig& 
       controllers_.push_back({name, [wrist, p] { return std::make_unique<control::ModelBasedController>(wrist, p); }});
     } else if (name == "excitation") {
       if (list.size() != 1) c.fail("name", "the excitation routine runs alone (it is not tracking)");
-      excitation_ = control::excitation_routine(read_excitation_parameters(c), max_kpa);
+      excitation_ = control::excitation_routine(read_excitation_parameters(c, max_kpa), max_kpa);
       const std::vector<control::ExcitationSegment> segments = excitation_;
       controllers_.push_back(
           {name, [segments, max_kpa] { return std::make_unique<control::ExcitationController>(segments, max_kpa); }});

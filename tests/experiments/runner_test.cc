@@ -153,7 +153,13 @@ TEST_F(RunnerTest, BadConfigsNameTheFileAndTheField) {
                        R"("trajectory": {"type": "sinusoid", "fe_min_deg": 40}, "controllers": [{"name": "paper"}]})"),
               HasSubstr("bad.json: trajectory.fe_min_deg: is above fe_max_deg"));
   EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "bang_bang"}]})"),
-              HasSubstr("bad.json: controllers[0].name: 'bang_bang' is not paper or model_based"));
+              HasSubstr("bad.json: controllers[0].name: 'bang_bang' is not paper, model_based or excitation"));
+  EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "excitation"}]})"),
+              HasSubstr("bad.json: trajectory: an excitation routine sets its own length; leave it out"));
+  EXPECT_THAT(error_of(tracking + R"("controllers": [{"name": "paper"}, {"name": "excitation"}]})"),
+              HasSubstr("bad.json: controllers[1].name: the excitation routine runs alone"));
+  EXPECT_THAT(error_of(tracking + R"("controllers": [{"name": "excitation", "step_levels_kpa": [45, 200]}]})"),
+              HasSubstr("bad.json: controllers[0].step_levels_kpa: 200 kPa is outside 0..137 kPa"));
   EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "paper"}, {"name": "paper"}]})"),
               HasSubstr("bad.json: controllers[1].name: 'paper' is listed twice"));
   EXPECT_THAT(error_of(tracking + steps + R"("controllers": [{"name": "model_based", "kp_nm_per_rad": -1}]})"),

@@ -1,0 +1,108 @@
+// `softwrist bench hil`: the firmware in the loop's speed, timing and size (src/hil/avr_board.h).
+#include <chrono>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "bridge_apps/device_emulator.h"
+#include "bridge_apps/hardware_trial.h"
+#include "bridge_apps/lockstep_link.h"
+#include "cli/arguments.h"
+#include "cli/bridge_commands.h"
+#include "hil/avr_board.h"
+
+namespace softwrist::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct HilBenchOptions {
+  std::string config = "experiments/planar_rehearsal.json";
+  std::string emulator = "experiments/emulator/nominal.json";
+  std::string firmware = "build/firmware/softwrist_fw.elf";
+  std::string out = "out/bench_hil";
+  bool json = false;
+};
+
+void bench_hil(const HilBenchOptions& o, std::ostream& out) {
+  const experiments::ExperimentConfig config = experiments::load_experiment_config(o.config);
+  const bridge::EmulatorConfig plant = bridge::load_emulator_config(o.emulator);
+  const fs::path dir(o.out);
+  const bridge::TrialOptions trial{.out = dir / "hil", .controllers = {"paper"}, .repetitions = 1, .overwrite = true};
+
+  // Through the firmware, timed.
+  hil::AvrBoard board(o.firmware, plant);
+  bridge::LockstepLink rig(board);
+  const auto start = std::chrono::steady_clock::now();
+  {
+    bridge::BridgePlant host(rig.open_host(), rig, {});
+    const bridge::TrialResult r = bridge::run_trial(config, host, trial);
+    if (r.fault) throw std::runtime_error("bench hil: the trial through the firmware stopped: " + *r.fault);
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The same on the emulator: the firmware's C++ twin, for the comparison.
+  {
+    bridge::DeviceEmulator emulator(plant);
+    bridge::LockstepLink emulator_rig(emulator);
+    bridge::BridgePlant host(emulator_rig.open_host(), emulator_rig, {});
+    bridge::TrialOptions emulated = trial;
+    emulated.out = dir / "emulator";
+    const bridge::TrialResult r = bridge::run_trial(config, host, emulated);
+    if (r.fault) throw std::runtime_error("bench hil: the trial on the emulator stopped: " + *r.fault);
+  }
+  const hil::BoardStats& s = board.stats();
+  const double avr_s = static_cast<double>(s.cycles) / 16e6;
+  const hil::FirmwareSize size = hil::firmware_size(o.firmware);
+  const hil::AngleDifference diff = hil::measured_angle_difference(dir / "hil" / "trials.csv",
+                                                                    dir / "emulator" / "trials.csv");
+  const auto us = [](double cycles) { return cycles / 16.0; };
+  const nlohmann::json result = {
+      {"experiment", o.config},
+      {"avr_time_s", avr_s},
+      {"wall_s", wall_s},
+      {"realtime_factor", avr_s / wall_s},
+      {"loop_max_us", us(static_cast<double>(s.loop_max_cycles))},
+      {"loop_mean_us", s.loops > 0 ? us(static_cast<double>(s.loop_cycles_total) / static_cast<double>(s.loops)) : 0.0},
+      {"loops", s.loops},
+      {"i2c_read_us", s.i2c_read_transactions > 0 ? us(static_cast<double>(s.i2c_read_cycles_total) /
+                                                         static_cast<double>(s.i2c_read_transactions))
+                                                   : 0.0},
+      {"i2c_read_max_us", us(static_cast<double>(s.i2c_read_max_cycles))},
+      {"serial_bytes_per_s", static_cast<double>(s.bytes_from_avr) / avr_s},
+      {"flash_bytes", size.flash_bytes},
+      {"ram_bytes", size.ram_bytes},
+      {"stack_headroom_bytes", s.stack_headroom_bytes},
+      {"resets", s.resets},
+      {"rms_vs_sim_deg", diff.rms_deg},
+      {"max_vs_sim_deg", diff.max_deg},
+      {"rows_compared", diff.rows}};
+  if (o.json) {
+    out << result.dump(2) << '\n';
+    return;
+  }
+  out << fmt::format(
+      "firmware in the loop: {:.1f} s of AVR time in {:.1f} s ({:.2f}x real time); loop {:.0f} us mean, {:.0f} us "
+      "max; an IMU read {:.0f} us; {:.0f} bytes/s to the host; flash {} B, RAM {} B, stack headroom {} B; measured "
+      "angles against the emulator: RMS {:.3f} deg, max {:.2f} deg over {} rows\n",
+      avr_s, wall_s, avr_s / wall_s, result["loop_mean_us"].get<double>(), result["loop_max_us"].get<double>(),
+      result["i2c_read_us"].get<double>(), result["serial_bytes_per_s"].get<double>(), size.flash_bytes,
+      size.ram_bytes, s.stack_headroom_bytes, diff.rms_deg, diff.max_deg, diff.rows);
+}
+
+}  // namespace
+
+void add_hil_bench(CLI::App& bench, std::ostream& out) {
+  auto o = std::make_shared<HilBenchOptions>();
+  auto* command = bench.add_subcommand(
+      "hil", "The firmware in the loop: speed against real time, loop and I2C timing at 16 MHz, size, and the planar "
+             "rehearsal's angles against the emulator's");
+  command->add_option("--firmware", o->firmware, "The firmware ELF (scripts/build_firmware.sh)");
+  command->add_option("--config", o->config, "A tracking experiment")->check(CLI::ExistingFile);
+  command->add_option("--emulator", o->emulator, "The plant (an emulator config)")->check(CLI::ExistingFile);
+  command->add_option("--out", o->out, "Where the two trials go");
+  command->add_flag("--json", o->json, "Print the figures as JSON");
+  command->callback([o, &out] { bench_hil(*o, out); });
+}
+
+}  // namespace softwrist::cli

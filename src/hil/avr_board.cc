@@ -1,0 +1,457 @@
+#include "hil/avr_board.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <deque>
+#include <stdexcept>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include <fcntl.h>
+#include <gelf.h>
+#include <libelf.h>
+#include <unistd.h>
+
+extern "C" {
+#include <avr_adc.h>
+#include <avr_ioport.h>
+#include <avr_twi.h>
+#include <avr_uart.h>
+#include <sim_avr.h>
+#include <sim_elf.h>
+#include <sim_io.h>
+#include <sim_irq.h>
+}
+
+#include "bridge/wire_format.h"
+#include "experiments/simulated_device.h"
+#include "io/csv.h"
+#include "physics/units.h"
+#include "sim/simulated_plant.h"
+
+namespace softwrist::hil {
+namespace {
+
+constexpr std::uint32_t kCpuHz = 16'000'000;
+constexpr std::uint64_t kCyclesPerMs = kCpuHz / 1000;
+
+// ATmega328P data-space addresses (datasheet, Register Summary) of what the board's outputs are read from.
+constexpr int kDdrB = 0x24, kPortB = 0x25, kDdrD = 0x2A, kPortD = 0x2B;
+constexpr int kTccr0A = 0x44, kOcr0A = 0x47, kOcr0B = 0x48, kTccr1A = 0x80, kOcr1AL = 0x88, kTccr2A = 0xB0,
+              kOcr2B = 0xB4;
+
+// One PWM pin of the Uno: its port bit, and the timer output compare that drives it (Arduino's analogWrite: the COM
+// bit connects the compare output; 0 and 255 are written as plain LOW and HIGH).
+struct PwmPin {
+  int ddr, port, bit;
+  int tccr, com_bit, ocr;
+};
+// Pins 3 (PD3, OC2B), 5 (PD5, OC0B), 6 (PD6, OC0A), 9 (PB1, OC1A): flexor, extensor, ulnar, radial.
+constexpr std::array<PwmPin, 4> kRegulatorPins = {{{kDdrD, kPortD, 3, kTccr2A, 5, kOcr2B},
+                                                   {kDdrD, kPortD, 5, kTccr0A, 5, kOcr0B},
+                                                   {kDdrD, kPortD, 6, kTccr0A, 7, kOcr0A},
+                                                   {kDdrB, kPortB, 1, kTccr1A, 7, kOcr1AL}}};
+constexpr int kValveBit = 7;          // PD7
+constexpr int kSafetySwitchBit = 0;   // PB0
+constexpr double kMonitorFullScaleMv = 5000.0;
+
+// The two BNO055s on the bus (7-bit addresses 0x28, 0x29), as the firmware reads them.
+struct Bno055Slave {
+  std::uint8_t address = 0;  // 7-bit
+  bool silent = false;
+  std::array<std::int16_t, 4> quaternion{16384, 0, 0, 0};  // w, x, y, z at 2^14 per unit
+  std::uint8_t mode = 0;
+  std::uint8_t reg = 0;
+  int index = 0;  // bytes written in this transaction
+
+  std::uint8_t read_register() {
+    std::uint8_t value = 0;
+    if (reg == 0x00) value = 0xA0;  // CHIP_ID
+    if (reg == 0x3D) value = mode;
+    if (reg >= 0x20 && reg <= 0x27) {
+      const std::int16_t q = quaternion[static_cast<std::size_t>((reg - 0x20) / 2)];
+      value = static_cast<std::uint8_t>(((reg - 0x20) % 2 == 0 ? q : q >> 8) & 0xFF);
+    }
+    ++reg;
+    return value;
+  }
+};
+
+// The hand's orientation relative to the forearm for the wrist angles the firmware's wrist_angles.h reads back:
+// a rotation by fe about y after one by ur about z, so that the hand's x axis is (cos ur cos fe, sin ur,
+// -cos ur sin fe).
+std::array<std::int16_t, 4> hand_quaternion(double fe_rad, double ur_rad) {
+  const double c1 = std::cos(fe_rad / 2), s1 = std::sin(fe_rad / 2), c2 = std::cos(ur_rad / 2),
+               s2 = std::sin(ur_rad / 2);
+  const std::array<double, 4> q = {c1 * c2, s1 * s2, s1 * c2, c1 * s2};
+  std::array<std::int16_t, 4> out{};
+  for (std::size_t i = 0; i < 4; ++i) out[i] = static_cast<std::int16_t>(std::lround(q[i] * 16384.0));
+  return out;
+}
+
+// The addresses of the named symbols in an AVR ELF (data addresses without the ELF's 0x800000 data-space offset); 0
+// where a name is missing.
+std::array<std::uint32_t, 2> symbol_addresses(const std::filesystem::path& elf_path,
+                                               const std::array<const char*, 2>& names) {
+  std::array<std::uint32_t, 2> out{};
+  elf_version(EV_CURRENT);
+  const int fd = ::open(elf_path.c_str(), O_RDONLY);
+  if (fd < 0) return out;
+  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  for (Elf_Scn* scn = elf ? elf_nextscn(elf, nullptr) : nullptr; scn; scn = elf_nextscn(elf, scn)) {
+    GElf_Shdr header;
+    if (!gelf_getshdr(scn, &header) || header.sh_type != SHT_SYMTAB || header.sh_entsize == 0) continue;
+    Elf_Data* data = elf_getdata(scn, nullptr);
+    for (std::size_t i = 0; data && i < header.sh_size / header.sh_entsize; ++i) {
+      GElf_Sym symbol;
+      if (!gelf_getsym(data, static_cast<int>(i), &symbol)) continue;
+      const char* name = elf_strptr(elf, header.sh_link, symbol.st_name);
+      for (std::size_t k = 0; name && k < names.size(); ++k) {
+        if (std::string_view(name) == names[k]) out[k] = static_cast<std::uint32_t>(symbol.st_value & 0xFFFF);
+      }
+    }
+  }
+  if (elf) elf_end(elf);
+  ::close(fd);
+  return out;
+}
+
+constexpr int kSpl = 0x5D, kSph = 0x5E;
+
+// simavr's messages: errors only. Its default logger prints everything logged without an AVR (the ELF reader's
+// "Loaded ... .text"); the logger is simavr's one global setting.
+void errors_only(avr_t*, const int level, const char* format, va_list ap) {
+  if (level <= LOG_ERROR) std::vfprintf(stderr, format, ap);
+}
+
+// An ELF for the AVR (simavr's reader accepts other files without complaint).
+bool is_avr_elf(const std::filesystem::path& path) {
+  elf_version(EV_CURRENT);
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  GElf_Ehdr header;
+  const bool avr = elf && elf_kind(elf) == ELF_K_ELF && gelf_getehdr(elf, &header) && header.e_machine == EM_AVR;
+  if (elf) elf_end(elf);
+  ::close(fd);
+  return avr;
+}
+
+}  // namespace
+
+struct AvrBoard::Impl {
+  Impl(const std::filesystem::path& firmware, const bridge::EmulatorConfig& config, BoardOptions board_options)
+      : options(board_options),
+        simulated(bridge::emulated_description(config), sim::ModelOptions{.gravity = config.gravity}),
+        plant(simulated.model, units::pa_to_kpa(simulated.description.regulator.max_pressure),
+              sim::ImuModel{.period_s = 0.01,
+                            .noise_std_deg = config.effects.imu_noise_std_deg,
+                            .bias_limit_deg = 0.0,
+                            .seed = config.seed}) {
+    load(firmware);
+    imus[0].address = 0x28;
+    imus[1].address = 0x29;
+  }
+  ~Impl() {
+    if (avr) avr_terminate(avr);
+  }
+
+  void load(const std::filesystem::path& firmware) {
+    avr_global_logger_set(&errors_only);
+    elf_firmware_t f{};
+    if (!is_avr_elf(firmware) || elf_read_firmware(firmware.c_str(), &f) != 0) {
+      throw std::runtime_error(fmt::format("{}: cannot read as AVR firmware (an ELF built by scripts/build_firmware.sh)",
+                                           firmware.string()));
+    }
+    avr = avr_make_mcu_by_name("atmega328p");
+    if (!avr) throw std::runtime_error("simavr has no ATmega328P");
+    avr_init(avr);
+    avr->log = LOG_ERROR;
+    avr->sleep = [](avr_t*, avr_cycle_count_t) {};  // simulated time: never wait on the host's clock
+    avr_load_firmware(avr, &f);
+    const auto symbols = symbol_addresses(firmware, {"loop", "__heap_start"});
+    loop_address = symbols[0];
+    heap_start = symbols[1];
+    avr->frequency = kCpuHz;
+    avr->vcc = avr->avcc = avr->aref = 5000;
+    wire_uart();
+    wire_twi();
+    set_safety_switch(false);
+  }
+
+  void wire_uart() {
+    std::uint32_t flags = 0;
+    avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+    flags &= ~static_cast<std::uint32_t>(AVR_UART_FLAG_STDIO);
+    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+    avr_irq_register_notify(
+        avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
+        [](avr_irq_t*, std::uint32_t value, void* self) {
+          static_cast<Impl*>(self)->from_avr.push_back(static_cast<char>(value & 0xFF));
+        },
+        this);
+    avr_irq_register_notify(
+        avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF),
+        [](avr_irq_t*, std::uint32_t, void* self) { static_cast<Impl*>(self)->uart_ready = false; }, this);
+    avr_irq_register_notify(
+        avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON),
+        [](avr_irq_t*, std::uint32_t, void* self) { static_cast<Impl*>(self)->uart_ready = true; }, this);
+    uart_input = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
+  }
+
+  void wire_twi() {
+    static const char* names[2] = {"twi.slave.in", "twi.slave.out"};
+    twi = avr_alloc_irq(&avr->irq_pool, 0, 2, names);
+    avr_connect_irq(twi + TWI_IRQ_INPUT, avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_INPUT));
+    avr_connect_irq(avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_OUTPUT), twi + TWI_IRQ_OUTPUT);
+    avr_irq_register_notify(
+        twi + TWI_IRQ_OUTPUT,
+        [](avr_irq_t*, std::uint32_t value, void* self) { static_cast<Impl*>(self)->on_twi(value); }, this);
+  }
+
+  // The bus as the slaves see it (simavr's messages; addresses are 8-bit, the 7-bit one shifted with R/W in bit 0).
+  void on_twi(std::uint32_t value) {
+    avr_twi_msg_irq_t m;
+    m.u.v = value;
+    const std::uint8_t msg = m.u.twi.msg;
+    if (msg & TWI_COND_STOP) {
+      if (transaction_read_quaternion) {
+        const std::uint64_t cycles = avr->cycle - transaction_start;
+        stats.i2c_read_max_cycles = std::max(stats.i2c_read_max_cycles, cycles);
+        stats.i2c_read_cycles_total += cycles;
+        ++stats.i2c_read_transactions;
+      }
+      transaction_read_quaternion = false;
+      selected = nullptr;
+    }
+    if (msg & TWI_COND_START) {
+      transaction_start = avr->cycle;
+      transaction_read_quaternion = false;
+      selected = nullptr;
+      for (Bno055Slave& s : imus) {
+        if (!s.silent && (m.u.twi.addr >> 1) == s.address) selected = &s;
+      }
+      if (selected) {
+        selected->index = 0;
+        avr_raise_irq(twi + TWI_IRQ_INPUT, avr_twi_irq_msg(TWI_COND_ACK, m.u.twi.addr, 1));
+      }
+    }
+    if (!selected) return;
+    if (msg & TWI_COND_WRITE) {
+      avr_raise_irq(twi + TWI_IRQ_INPUT, avr_twi_irq_msg(TWI_COND_ACK, m.u.twi.addr, 1));
+      if (selected->index == 0) {
+        selected->reg = m.u.twi.data;
+      } else if (selected->reg == 0x3D) {
+        selected->mode = m.u.twi.data;
+      }
+      ++selected->index;
+    }
+    if (msg & TWI_COND_READ) {
+      if (selected->reg == 0x20) {
+        ++stats.i2c_reads;
+        transaction_read_quaternion = true;
+      }
+      avr_raise_irq(twi + TWI_IRQ_INPUT, avr_twi_irq_msg(TWI_COND_READ, m.u.twi.addr, selected->read_register()));
+    }
+  }
+
+  void set_safety_switch(bool open) {
+    switch_open = open;
+    // Closed to ground: the pin reads low; open, the firmware's pull-up makes it high. Set as the pin's external
+    // level, so it holds whatever the firmware writes to the port (its pull-up, a reset).
+    avr_ioport_external_t level{};
+    level.name = 'B';
+    level.mask = 1U << kSafetySwitchBit;
+    level.value = open ? 1U << kSafetySwitchBit : 0U;
+    avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL('B'), &level);
+    avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), kSafetySwitchBit), open ? 1 : 0);
+  }
+
+  // Runs the AVR to the end of millisecond `t_ms`, feeding it the host's bytes as its UART takes them.
+  void run_to(std::uint32_t t_ms) {
+    const std::uint64_t end = (static_cast<std::uint64_t>(t_ms) + 1) * kCyclesPerMs;
+    while (avr->cycle < end) {
+      while (!to_avr.empty() && uart_ready) {
+        avr_raise_irq(uart_input, static_cast<std::uint8_t>(to_avr.front()));
+        to_avr.pop_front();
+        ++stats.bytes_to_avr;
+      }
+      const std::uint32_t pc_before = avr->pc;
+      const int state = avr_run(avr);
+      if (avr->pc == 0 && pc_before != 0) {
+        ++stats.resets;
+        last_loop_cycle = 0;
+      }
+      measure();
+      if (state == cpu_Done || state == cpu_Crashed) {
+        throw std::runtime_error(fmt::format("the simulated ATmega328P stopped at {} ms (state {})", t_ms, state));
+      }
+    }
+    stats.cycles = avr->cycle;
+    if (heap_start != 0) stats.stack_headroom_bytes = min_sp + 1 - static_cast<int>(heap_start);
+  }
+
+  // Loop passes and the stack, after every instruction.
+  void measure() {
+    if (loop_address != 0 && avr->pc == loop_address) {
+      if (last_loop_cycle != 0) {
+        const std::uint64_t pass = avr->cycle - last_loop_cycle;
+        stats.loop_max_cycles = std::max(stats.loop_max_cycles, pass);
+        stats.loop_cycles_total += pass;
+        ++stats.loops;
+      }
+      last_loop_cycle = avr->cycle;
+    }
+    const int sp = avr->data[kSpl] | (avr->data[kSph] << 8);
+    if (heap_start != 0 && sp > 0x100) min_sp = std::min(min_sp, sp);
+  }
+
+  // The regulators' setpoints from the PWM pins (through the RC filter) and the valve.
+  void read_outputs(double dt_s) {
+    const auto bit = [this](int address, int b) { return (avr->data[address] >> b) & 1; };
+    const bool valve_open = bit(kDdrD, kValveBit) && bit(kPortD, kValveBit);
+    const double max_kpa = plant.max_pressure_kpa();
+    const double alpha = 1.0 - std::exp(-dt_s / options.pwm_filter_time_constant_s);
+    for (std::size_t i = 0; i < 4; ++i) {
+      const PwmPin& p = kRegulatorPins[i];
+      double duty = 0.0;
+      if (bit(p.ddr, p.bit)) {
+        duty = bit(p.tccr, p.com_bit) ? avr->data[p.ocr] / 255.0 : bit(p.port, p.bit);
+      }
+      filtered[i] += alpha * (duty * max_kpa - filtered[i]);
+      setpoints[i] = valve_open ? std::clamp(filtered[i], 0.0, max_kpa) : 0.0;
+    }
+  }
+
+  void update_inputs() {
+    for (int i = 0; i < 4; ++i) {
+      const double kpa = plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i));
+      const double mv = std::clamp(kpa / plant.max_pressure_kpa(), 0.0, 1.0) * kMonitorFullScaleMv;
+      avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + i), static_cast<std::uint32_t>(mv));
+    }
+    const control::ImuReading r = plant.read_angles();
+    imus[1].quaternion = hand_quaternion(units::deg_to_rad(r.angles.fe_deg), units::deg_to_rad(r.angles.ur_deg));
+  }
+
+  // The emulated subject, as the emulator's: at each hello the wrist is put at neutral and held there, vented,
+  // until the first command.
+  void watch_host(const char* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      if (!host_lines.push(data[i])) continue;
+      wire::Packet p{};
+      if (wire::parse_line(host_lines.line(), host_lines.length(), &p) != wire::kOk) continue;
+      if (p.type == wire::kHelloPacket) plant.hold(control::WristAngles{});
+      if (p.type == wire::kSetPacket) plant.hold(std::nullopt);
+    }
+  }
+
+  BoardOptions options;
+  std::uint32_t loop_address = 0, heap_start = 0;
+  std::uint64_t last_loop_cycle = 0, transaction_start = 0;
+  bool transaction_read_quaternion = false;
+  int min_sp = 0x8FF;  // RAMEND
+  experiments::SimulatedDevice simulated;
+  sim::SimulatedPlant plant;
+  avr_t* avr = nullptr;
+  avr_irq_t* uart_input = nullptr;
+  avr_irq_t* twi = nullptr;
+  bool uart_ready = true;
+  bool switch_open = false;
+  std::deque<char> to_avr;
+  std::vector<char> from_avr;
+  std::array<Bno055Slave, 2> imus;
+  Bno055Slave* selected = nullptr;
+  std::array<double, 4> filtered{};
+  control::Pressures setpoints{};
+  wire::LineAssembler host_lines;
+  BoardStats stats;
+};
+
+AvrBoard::AvrBoard(const std::filesystem::path& firmware, const bridge::EmulatorConfig& plant, BoardOptions options)
+    : impl_(std::make_unique<Impl>(firmware, plant, options)) {}
+
+AvrBoard::~AvrBoard() = default;
+
+void AvrBoard::receive(const char* data, std::size_t size) {
+  impl_->watch_host(data, size);
+  impl_->to_avr.insert(impl_->to_avr.end(), data, data + size);
+}
+
+void AvrBoard::tick(std::uint32_t t_ms, bridge::DeviceUart& uart) {
+  Impl& b = *impl_;
+  b.update_inputs();
+  b.run_to(t_ms);
+  if (!b.from_avr.empty()) {
+    b.stats.bytes_from_avr += static_cast<long>(b.from_avr.size());
+    uart.write(b.from_avr.data(), b.from_avr.size());
+    b.from_avr.clear();
+  }
+  b.read_outputs(1e-3);
+  const bool vented = std::all_of(b.setpoints.begin(), b.setpoints.end(), [](double p) { return p < 0.05; });
+  if (vented && !b.stats.vented) b.stats.vent_ms.push_back(t_ms);
+  b.stats.vented = vented;
+  for (double p : b.setpoints) b.stats.max_setpoint_kpa = std::max(b.stats.max_setpoint_kpa, p);
+  b.plant.command_pressures_kpa(b.setpoints);
+  b.plant.wait_until((t_ms + 1) / 1000.0);
+}
+
+void AvrBoard::set_safety_switch_open(bool open) { impl_->set_safety_switch(open); }
+
+void AvrBoard::set_imu_silent(int imu, bool silent) { impl_->imus.at(static_cast<std::size_t>(imu)).silent = silent; }
+
+const BoardStats& AvrBoard::stats() const { return impl_->stats; }
+
+control::Pressures AvrBoard::setpoints_kpa() const { return impl_->setpoints; }
+
+control::WristAngles AvrBoard::true_angles() const { return impl_->plant.true_angles(); }
+
+FirmwareSize firmware_size(const std::filesystem::path& firmware) {
+  elf_version(EV_CURRENT);
+  const int fd = ::open(firmware.c_str(), O_RDONLY);
+  if (fd < 0) throw std::runtime_error(firmware.string() + ": cannot open");
+  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  std::size_t names = 0;
+  if (!elf || elf_getshdrstrndx(elf, &names) != 0) {
+    if (elf) elf_end(elf);
+    ::close(fd);
+    throw std::runtime_error(firmware.string() + ": not an ELF file");
+  }
+  FirmwareSize size;
+  for (Elf_Scn* scn = elf_nextscn(elf, nullptr); scn; scn = elf_nextscn(elf, scn)) {
+    GElf_Shdr header;
+    if (!gelf_getshdr(scn, &header)) continue;
+    const std::string_view name = elf_strptr(elf, names, header.sh_name);
+    const long bytes = static_cast<long>(header.sh_size);
+    if (name == ".text" || name == ".data") size.flash_bytes += bytes;
+    if (name == ".data" || name == ".bss") size.ram_bytes += bytes;
+  }
+  elf_end(elf);
+  ::close(fd);
+  return size;
+}
+
+AngleDifference measured_angle_difference(const std::filesystem::path& log_a, const std::filesystem::path& log_b) {
+  const io::CsvTable a = io::CsvTable::Read(log_a), b = io::CsvTable::Read(log_b);
+  if (a.row_count() != b.row_count()) {
+    throw std::runtime_error(fmt::format("{} has {} rows, {} has {}: not the same run", log_a.string(), a.row_count(),
+                                         log_b.string(), b.row_count()));
+  }
+  AngleDifference d{.rows = a.row_count()};
+  double sum = 0.0;
+  for (const char* name : {"measured_fe_deg", "measured_ur_deg"}) {
+    const int ca = a.column(name), cb = b.column(name);
+    for (std::size_t r = 0; r < a.row_count(); ++r) {
+      const double diff = a.number(r, ca) - b.number(r, cb);
+      sum += diff * diff;
+      d.max_deg = std::max(d.max_deg, std::abs(diff));
+    }
+  }
+  d.rms_deg = d.rows > 0 ? std::sqrt(sum / (2.0 * static_cast<double>(d.rows))) : 0.0;
+  return d;
+}
+
+}  // namespace softwrist::hil
