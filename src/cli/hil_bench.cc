@@ -54,8 +54,8 @@ void bench_hil(const HilBenchOptions& o, std::ostream& out) {
   const hil::BoardStats& s = board.stats();
   const double avr_s = static_cast<double>(s.cycles) / 16e6;
   const hil::FirmwareSize size = hil::firmware_size(o.firmware);
-  const hil::AngleDifference diff = hil::measured_angle_difference(dir / "hil" / "trials.csv",
-                                                                    dir / "emulator" / "trials.csv");
+  const hil::AngleDifference diff =
+      hil::measured_angle_difference(dir / "hil" / "trials.csv", dir / "emulator" / "trials.csv");
   const auto us = [](double cycles) { return cycles / 16.0; };
   const nlohmann::json result = {
       {"experiment", o.config},
@@ -66,8 +66,8 @@ void bench_hil(const HilBenchOptions& o, std::ostream& out) {
       {"loop_mean_us", s.loops > 0 ? us(static_cast<double>(s.loop_cycles_total) / static_cast<double>(s.loops)) : 0.0},
       {"loops", s.loops},
       {"i2c_read_us", s.i2c_read_transactions > 0 ? us(static_cast<double>(s.i2c_read_cycles_total) /
-                                                         static_cast<double>(s.i2c_read_transactions))
-                                                   : 0.0},
+                                                       static_cast<double>(s.i2c_read_transactions))
+                                                  : 0.0},
       {"i2c_read_max_us", us(static_cast<double>(s.i2c_read_max_cycles))},
       {"serial_bytes_per_s", static_cast<double>(s.bytes_from_avr) / avr_s},
       {"flash_bytes", size.flash_bytes},
@@ -86,8 +86,8 @@ void bench_hil(const HilBenchOptions& o, std::ostream& out) {
       "max; an IMU read {:.0f} us; {:.0f} bytes/s to the host; flash {} B, RAM {} B, stack headroom {} B; measured "
       "angles against the emulator: RMS {:.3f} deg, max {:.2f} deg over {} rows\n",
       avr_s, wall_s, avr_s / wall_s, result["loop_mean_us"].get<double>(), result["loop_max_us"].get<double>(),
-      result["i2c_read_us"].get<double>(), result["serial_bytes_per_s"].get<double>(), size.flash_bytes,
-      size.ram_bytes, s.stack_headroom_bytes, diff.rms_deg, diff.max_deg, diff.rows);
+      result["i2c_read_us"].get<double>(), result["serial_bytes_per_s"].get<double>(), size.flash_bytes, size.ram_bytes,
+      s.stack_headroom_bytes, diff.rms_deg, diff.max_deg, diff.rows);
 }
 
 }  // namespace
@@ -95,8 +95,9 @@ void bench_hil(const HilBenchOptions& o, std::ostream& out) {
 void add_hil_bench(CLI::App& bench, std::ostream& out) {
   auto o = std::make_shared<HilBenchOptions>();
   auto* command = bench.add_subcommand(
-      "hil", "The firmware in the loop: speed against real time, loop and I2C timing at 16 MHz, size, and the planar "
-             "rehearsal's angles against the emulator's");
+      "hil",
+      "The firmware in the loop: speed against real time, loop and I2C timing at 16 MHz, size, and the planar "
+      "rehearsal's angles against the emulator's");
   command->add_option("--firmware", o->firmware, "The firmware ELF (scripts/build_firmware.sh)");
   command->add_option("--config", o->config, "A tracking experiment")->check(CLI::ExistingFile);
   command->add_option("--emulator", o->emulator, "The plant (an emulator config)")->check(CLI::ExistingFile);

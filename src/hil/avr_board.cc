@@ -55,8 +55,8 @@ constexpr std::array<PwmPin, 4> kRegulatorPins = {{{kDdrD, kPortD, 3, kTccr2A, 5
                                                    {kDdrD, kPortD, 5, kTccr0A, 5, kOcr0B},
                                                    {kDdrD, kPortD, 6, kTccr0A, 7, kOcr0A},
                                                    {kDdrB, kPortB, 1, kTccr1A, 7, kOcr1AL}}};
-constexpr int kValveBit = 7;          // PD7
-constexpr int kSafetySwitchBit = 0;   // PB0
+constexpr int kValveBit = 7;         // PD7
+constexpr int kSafetySwitchBit = 0;  // PB0
 constexpr double kMonitorFullScaleMv = 5000.0;
 
 // The two BNO055s on the bus (7-bit addresses 0x28, 0x29), as the firmware reads them.
@@ -96,7 +96,7 @@ std::array<std::int16_t, 4> hand_quaternion(double fe_rad, double ur_rad) {
 // The addresses of the named symbols in an AVR ELF (data addresses without the ELF's 0x800000 data-space offset); 0
 // where a name is missing.
 std::array<std::uint32_t, 2> symbol_addresses(const std::filesystem::path& elf_path,
-                                               const std::array<const char*, 2>& names) {
+                                              const std::array<const char*, 2>& names) {
   std::array<std::uint32_t, 2> out{};
   elf_version(EV_CURRENT);
   const int fd = ::open(elf_path.c_str(), O_RDONLY);
@@ -164,8 +164,8 @@ struct AvrBoard::Impl {
     avr_global_logger_set(&errors_only);
     elf_firmware_t f{};
     if (!is_avr_elf(firmware) || elf_read_firmware(firmware.c_str(), &f) != 0) {
-      throw std::runtime_error(fmt::format("{}: cannot read as AVR firmware (an ELF built by scripts/build_firmware.sh)",
-                                           firmware.string()));
+      throw std::runtime_error(fmt::format(
+          "{}: cannot read as AVR firmware (an ELF built by scripts/build_firmware.sh)", firmware.string()));
     }
     avr = avr_make_mcu_by_name("atmega328p");
     if (!avr) throw std::runtime_error("simavr has no ATmega328P");

@@ -37,11 +37,11 @@ struct BoardOptions {
 };
 
 struct BoardStats {
-  std::uint64_t cycles = 0;        // AVR cycles run
-  long resets = 0;                 // the AVR restarted (its hardware watchdog), after the power-on one
+  std::uint64_t cycles = 0;  // AVR cycles run
+  long resets = 0;           // the AVR restarted (its hardware watchdog), after the power-on one
   long bytes_from_avr = 0, bytes_to_avr = 0, bytes_lost_to_avr = 0;
-  long i2c_reads = 0;              // quaternion reads answered
-  double max_setpoint_kpa = 0.0;   // the highest any regulator was told
+  long i2c_reads = 0;             // quaternion reads answered
+  double max_setpoint_kpa = 0.0;  // the highest any regulator was told
   // The firmware's timing and memory, in AVR cycles (16 per microsecond) and bytes: each pass of loop() (from one
   // entry to the next), each quaternion read on the bus (START to STOP), and the lowest the stack pointer went above
   // the end of static RAM (__heap_start; the firmware has no heap).
@@ -50,7 +50,7 @@ struct BoardStats {
   std::uint64_t i2c_read_max_cycles = 0, i2c_read_cycles_total = 0;
   long i2c_read_transactions = 0;
   int stack_headroom_bytes = 0;
-  bool vented = true;              // every regulator's setpoint 0 now
+  bool vented = true;                  // every regulator's setpoint 0 now
   std::vector<std::uint32_t> vent_ms;  // each moment the board went from some pressure to vented
 };
 
