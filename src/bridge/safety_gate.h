@@ -65,7 +65,7 @@ class SafetyGate {
       reset_outputs();
     } else {
       // In 32 bits when it fits (every pass of the firmware's loop, where a 64-bit division costs the AVR ~0.1 ms).
-      const int64_t step = dt < 1000u && limits_.rate_dkpa_s <= 2000000
+      const int64_t step = dt < 1000u && limits_.rate_dkpa_s >= 0 && limits_.rate_dkpa_s <= 2000000
                                ? static_cast<int64_t>(limits_.rate_dkpa_s * static_cast<int32_t>(dt) / 1000)
                                : static_cast<int64_t>(limits_.rate_dkpa_s) * dt / 1000;
       for (int i = 0; i < 4; ++i) {

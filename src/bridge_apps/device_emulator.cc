@@ -60,7 +60,7 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
       c.effects.wrist_stiffness_scale = w.positive("stiffness_scale", 1.0);
       c.effects.wrist_damping_scale = w.positive("damping_scale", 1.0);
       if (c.effects.wrist_stiffness_scale > 10 || c.effects.wrist_damping_scale > 10) {
-        w.fail("stiffness_scale", "the relaxed wrist's scales must be within 0..10");
+        w.fail(c.effects.wrist_stiffness_scale > 10 ? "stiffness_scale" : "damping_scale", "must be within 0..10");
       }
       w.finish();
     }

@@ -68,12 +68,12 @@ struct EmulatorConfig {
 // throw std::runtime_error("<file>: <field>: <problem>").
 EmulatorConfig load_emulator_config(const std::filesystem::path& path);
 
-// A moment the device vented (all regulator setpoints to 0, supply valve closed).
 // The emulated device's own description: the placement file with the effects that live in it applied (mounts,
 // regulator time constant, relaxed wrist). What a model of the emulated device would be if it were exact, less the
 // dead time and the IMU effects, which act outside the placement (the calibration benchmark's "true model").
 sim::DeviceDescription emulated_description(const EmulatorConfig& config);
 
+// A moment the device vented (all regulator setpoints to 0, supply valve closed).
 struct VentEvent {
   std::uint32_t t_ms = 0;      // device clock: ms since the device started
   std::string cause;           // "emergency stop", "zero command", "watchdog: no command", "watchdog: no IMU"

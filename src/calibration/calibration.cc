@@ -62,6 +62,16 @@ RoutineRecord run_routine(const experiments::ExperimentConfig& config, bridge::B
   const std::unique_ptr<experiments::Experiment> experiment = experiments::make_experiment(config);
   const experiments::Tracking& routine = routine_of(config, *experiment);
   RoutineRecord record{.log_dir = log_dir, .planned_s = control::routine_duration_s(routine.excitation())};
+  double peak_kpa = 0.0;
+  for (const control::ExcitationSegment& s : routine.excitation()) {
+    for (std::size_t m = 0; m < 4; ++m) peak_kpa = std::max({peak_kpa, s.from_kpa[m], s.to_kpa[m]});
+  }
+  if (peak_kpa > plant.max_pressure_kpa()) {
+    throw std::runtime_error(
+        fmt::format("{}: the routine reaches {} kPa, above this bridge's limit of {} kPa; lower "
+                    "its step_levels_kpa and co_contraction_kpa",
+                    config.source, peak_kpa, plant.max_pressure_kpa()));
+  }
   const bridge::TrialResult result = bridge::run_trial(config, plant, {.out = log_dir, .overwrite = overwrite});
   const double period_s = routine.make_controllers().front()->period_s();
   record.run_s = std::min(record.planned_s, static_cast<double>(logged_rows(log_dir)) * period_s);

@@ -193,8 +193,8 @@ void hil(const HilCommandOptions& options, std::ostream& out, std::ostream& err)
   out << fmt::format(
       "board: {:.1f} s of AVR time, {} resets, {} bytes from the firmware, {} to it, {} IMU reads; loop max {:.0f} us, "
       "stack headroom {} bytes\n",
-      static_cast<double>(s.cycles) / 16e6, s.resets, s.bytes_from_avr, s.bytes_to_avr, s.i2c_reads,
-      static_cast<double>(s.loop_max_cycles) / 16.0, s.stack_headroom_bytes);
+      hil::avr_seconds(s.cycles), s.resets, s.bytes_from_avr, s.bytes_to_avr, s.i2c_reads,
+      hil::avr_microseconds(static_cast<double>(s.loop_max_cycles)), s.stack_headroom_bytes);
 }
 
 struct SoakCommandOptions {

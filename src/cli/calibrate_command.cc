@@ -48,9 +48,11 @@ CalibrationRun calibrate_on(bridge::BridgePlant& plant, const CalibrateOptions& 
   const auto start = std::chrono::steady_clock::now();
   CalibrationRun run;
   const fs::path dir(o.out);
+  // What an earlier calibration left here is not this device's.
+  for (const char* old : {"calibrated.json", "calibration.json"}) fs::remove(dir / old);
   run.routine = calibration::run_routine(routine_config(o.routine, o.placement), plant, dir / "routine", o.overwrite);
   if (run.routine.fault) err << "the routine stopped, vented: " << *run.routine.fault << "\n";
-  // A fit needs the first muscle's steps at least.
+  // Less than 10 s (the first muscle's first two levels) is too little to fit.
   constexpr double kMinimumRun_s = 10.0;
   if (run.routine.run_s >= kMinimumRun_s) {
     run.result = calibration::calibrate_from_logs(dir / "routine", sim::load_device(o.placement), {.jobs = o.jobs});
@@ -88,12 +90,16 @@ void calibrate(const CalibrateOptions& o, std::ostream& out, std::ostream& err) 
   const fs::path dir(o.out);
   if (!run->result) {
     fs::create_directories(dir);
-    const nlohmann::json record = {{"routine",
-                                    {{"planned_s", run->routine.planned_s},
-                                     {"run_s", run->routine.run_s},
-                                     {"fault", run->routine.fault.value_or("")},
-                                     {"parts_not_run", run->routine.parts_not_run}}},
-                                   {"not_identified", "everything: too little of the routine ran to fit anything"}};
+    const nlohmann::json record = {
+        {"calibrated", nullptr},
+        {"routine",
+         {{"log", (dir / "routine").string()},
+          {"planned_s", run->routine.planned_s},
+          {"run_s", run->routine.run_s},
+          {"fault", run->routine.fault ? nlohmann::json(*run->routine.fault) : nlohmann::json(nullptr)},
+          {"parts_not_run", run->routine.parts_not_run}}},
+        {"not_identified",
+         nlohmann::json::array({{{"what", "everything"}, {"why", "too little of the routine ran to fit anything"}}})}};
     std::ofstream(dir / "calibration.json") << record.dump(2) << '\n';
     throw std::runtime_error(
         fmt::format("calibration: only {:.1f} s of the {:.0f} s routine ran ({}); nothing was "

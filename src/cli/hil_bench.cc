@@ -52,11 +52,11 @@ void bench_hil(const HilBenchOptions& o, std::ostream& out) {
     if (r.fault) throw std::runtime_error("bench hil: the trial on the emulator stopped: " + *r.fault);
   }
   const hil::BoardStats& s = board.stats();
-  const double avr_s = static_cast<double>(s.cycles) / 16e6;
+  const double avr_s = hil::avr_seconds(s.cycles);
   const hil::FirmwareSize size = hil::firmware_size(o.firmware);
   const hil::AngleDifference diff =
       hil::measured_angle_difference(dir / "hil" / "trials.csv", dir / "emulator" / "trials.csv");
-  const auto us = [](double cycles) { return cycles / 16.0; };
+  const auto us = [](double cycles) { return hil::avr_microseconds(cycles); };
   const nlohmann::json result = {
       {"experiment", o.config},
       {"avr_time_s", avr_s},

@@ -32,7 +32,7 @@ struct RenderOptions {
   // Moments of a run, or a video of a tracking run.
   std::string run;
   std::optional<double> at_s;
-  int case_index = 0;
+  int case_index = -1;  // the log's first case
   std::string out_dir;
   std::string video;
   double fps = 25.0;
@@ -137,9 +137,10 @@ void add_render_command(CLI::App& app, std::ostream& out) {
   auto* at = render->add_option("--at", options->at_s,
                                 "Tracking runs: the instant nearest this time [s] instead of the "
                                 "extremes");
-  auto* case_index =
-      render->add_option("--case", options->case_index, "Tracking runs: the case (controller, repetition)")
-          ->check(CLI::NonNegativeNumber);
+  auto* case_index = render
+                         ->add_option("--case", options->case_index,
+                                      "Tracking runs: the case (controller, repetition); default: the log's first")
+                         ->check(CLI::NonNegativeNumber);
   auto* out_dir = render->add_option("--out-dir", options->out_dir, "Where a run's PNGs go (default RUN_DIR/renders)");
   auto* video =
       render->add_option("--video", options->video, "Tracking runs: write a video of the case (e.g. run.mp4)");

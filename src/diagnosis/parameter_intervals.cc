@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -64,16 +65,25 @@ std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const s
     const Slot& s = slots[k];
     u0[k] = s.spec->to_unit(values[s.effect][s.index]);
     const double up = std::min(1.0, u0[k] + kStep), down = std::max(0.0, u0[k] - kStep);
+    // A side the model cannot be built or replayed at (an unphysical corner of the range) is replaced by the fit
+    // itself: a one-sided difference.
     std::vector<double> sides[2];
+    double at[2] = {up, down};
     for (int side = 0; side < 2; ++side) {
       std::vector<std::vector<double>> moved = values;
-      moved[s.effect][s.index] = s.spec->from_unit(side == 0 ? up : down);
-      sides[side] = weighted_residuals(
-          prepared, problem.evaluate(combined_variant(d.combination, moved, nominal), false), nullptr);
+      moved[s.effect][s.index] = s.spec->from_unit(at[side]);
+      try {
+        sides[side] = weighted_residuals(
+            prepared, problem.evaluate(combined_variant(d.combination, moved, nominal), false), nullptr);
+      } catch (const std::exception&) {
+        sides[side] = r0;
+        at[side] = u0[k];
+      }
     }
+    const double width = at[0] - at[1];
     for (Eigen::Index i = 0; i < n; ++i) {
       jacobian(i, static_cast<Eigen::Index>(k)) =
-          (sides[0][static_cast<std::size_t>(i)] - sides[1][static_cast<std::size_t>(i)]) / (up - down);
+          width > 0.0 ? (sides[0][static_cast<std::size_t>(i)] - sides[1][static_cast<std::size_t>(i)]) / width : 0.0;
     }
   }
   double sum_squares = 0.0;

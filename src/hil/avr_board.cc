@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <stdexcept>
 #include <string_view>
@@ -36,8 +37,7 @@ extern "C" {
 namespace softwrist::hil {
 namespace {
 
-constexpr std::uint32_t kCpuHz = 16'000'000;
-constexpr std::uint64_t kCyclesPerMs = kCpuHz / 1000;
+constexpr std::uint64_t kCyclesPerMs = kAvrClockHz / 1000;
 
 // ATmega328P data-space addresses (datasheet, Register Summary) of what the board's outputs are read from.
 constexpr int kDdrB = 0x24, kPortB = 0x25, kDdrD = 0x2A, kPortD = 0x2B;
@@ -46,15 +46,17 @@ constexpr int kTccr0A = 0x44, kOcr0A = 0x47, kOcr0B = 0x48, kTccr1A = 0x80, kOcr
 
 // One PWM pin of the Uno: its port bit, and the timer output compare that drives it (Arduino's analogWrite: the COM
 // bit connects the compare output; 0 and 255 are written as plain LOW and HIGH).
+// Arduino runs timer 0 in fast PWM (duty (OCR + 1) / 256) and timers 1 and 2 in phase-correct PWM (duty OCR / 255).
 struct PwmPin {
   int ddr, port, bit;
   int tccr, com_bit, ocr;
+  bool fast;
 };
 // Pins 3 (PD3, OC2B), 5 (PD5, OC0B), 6 (PD6, OC0A), 9 (PB1, OC1A): flexor, extensor, ulnar, radial.
-constexpr std::array<PwmPin, 4> kRegulatorPins = {{{kDdrD, kPortD, 3, kTccr2A, 5, kOcr2B},
-                                                   {kDdrD, kPortD, 5, kTccr0A, 5, kOcr0B},
-                                                   {kDdrD, kPortD, 6, kTccr0A, 7, kOcr0A},
-                                                   {kDdrB, kPortB, 1, kTccr1A, 7, kOcr1AL}}};
+constexpr std::array<PwmPin, 4> kRegulatorPins = {{{kDdrD, kPortD, 3, kTccr2A, 5, kOcr2B, false},
+                                                   {kDdrD, kPortD, 5, kTccr0A, 5, kOcr0B, true},
+                                                   {kDdrD, kPortD, 6, kTccr0A, 7, kOcr0A, true},
+                                                   {kDdrB, kPortB, 1, kTccr1A, 7, kOcr1AL, false}}};
 constexpr int kValveBit = 7;         // PD7
 constexpr int kSafetySwitchBit = 0;  // PB0
 constexpr double kMonitorFullScaleMv = 5000.0;
@@ -128,6 +130,17 @@ void errors_only(avr_t*, const int level, const char* format, va_list ap) {
   if (level <= LOG_ERROR) std::vfprintf(stderr, format, ap);
 }
 
+// What simavr's ELF reader allocated.
+void free_firmware(elf_firmware_t& f) {
+  std::free(f.flash);
+  std::free(f.eeprom);
+  std::free(f.fuse);
+  std::free(f.lockbits);
+  for (std::uint32_t i = 0; i < f.symbolcount; ++i) std::free(f.symbol[i]);
+  std::free(f.symbol);
+  f = elf_firmware_t{};
+}
+
 // An ELF for the AVR (simavr's reader accepts other files without complaint).
 bool is_avr_elf(const std::filesystem::path& path) {
   elf_version(EV_CURRENT);
@@ -157,13 +170,17 @@ struct AvrBoard::Impl {
     imus[1].address = 0x29;
   }
   ~Impl() {
-    if (avr) avr_terminate(avr);
+    if (avr) {
+      avr_terminate(avr);  // frees its flash and data, not itself
+      std::free(avr);
+    }
   }
 
   void load(const std::filesystem::path& firmware) {
     avr_global_logger_set(&errors_only);
     elf_firmware_t f{};
     if (!is_avr_elf(firmware) || elf_read_firmware(firmware.c_str(), &f) != 0) {
+      free_firmware(f);
       throw std::runtime_error(fmt::format(
           "{}: cannot read as AVR firmware (an ELF built by scripts/build_firmware.sh)", firmware.string()));
     }
@@ -172,11 +189,12 @@ struct AvrBoard::Impl {
     avr_init(avr);
     avr->log = LOG_ERROR;
     avr->sleep = [](avr_t*, avr_cycle_count_t) {};  // simulated time: never wait on the host's clock
-    avr_load_firmware(avr, &f);
+    avr_load_firmware(avr, &f);                     // copies the program into the AVR's flash
+    free_firmware(f);
     const auto symbols = symbol_addresses(firmware, {"loop", "__heap_start"});
     loop_address = symbols[0];
     heap_start = symbols[1];
-    avr->frequency = kCpuHz;
+    avr->frequency = kAvrClockHz;
     avr->vcc = avr->avcc = avr->aref = 5000;
     wire_uart();
     wire_twi();
@@ -320,7 +338,8 @@ struct AvrBoard::Impl {
       const PwmPin& p = kRegulatorPins[i];
       double duty = 0.0;
       if (bit(p.ddr, p.bit)) {
-        duty = bit(p.tccr, p.com_bit) ? avr->data[p.ocr] / 255.0 : bit(p.port, p.bit);
+        const double ocr = avr->data[p.ocr];
+        duty = !bit(p.tccr, p.com_bit) ? bit(p.port, p.bit) : p.fast ? (ocr + 1.0) / 256.0 : ocr / 255.0;
       }
       filtered[i] += alpha * (duty * max_kpa - filtered[i]);
       setpoints[i] = valve_open ? std::clamp(filtered[i], 0.0, max_kpa) : 0.0;
@@ -331,7 +350,8 @@ struct AvrBoard::Impl {
     for (int i = 0; i < 4; ++i) {
       const double kpa = plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i));
       const double mv = std::clamp(kpa / plant.max_pressure_kpa(), 0.0, 1.0) * kMonitorFullScaleMv;
-      avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + i), static_cast<std::uint32_t>(mv));
+      avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + i),
+                    static_cast<std::uint32_t>(std::lround(mv)));
     }
     const control::ImuReading r = plant.read_angles();
     imus[1].quaternion = hand_quaternion(units::deg_to_rad(r.angles.fe_deg), units::deg_to_rad(r.angles.ur_deg));
@@ -408,6 +428,14 @@ const BoardStats& AvrBoard::stats() const { return impl_->stats; }
 control::Pressures AvrBoard::setpoints_kpa() const { return impl_->setpoints; }
 
 control::WristAngles AvrBoard::true_angles() const { return impl_->plant.true_angles(); }
+
+control::Pressures AvrBoard::regulated_pressures_kpa() const {
+  control::Pressures p{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    p[i] = impl_->plant.wrist().regulated_pressure_kpa(static_cast<sim::MuscleIndex>(i));
+  }
+  return p;
+}
 
 FirmwareSize firmware_size(const std::filesystem::path& firmware) {
   elf_version(EV_CURRENT);

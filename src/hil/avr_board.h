@@ -30,6 +30,10 @@
 
 namespace softwrist::hil {
 
+inline constexpr std::uint32_t kAvrClockHz = 16'000'000;  // the Uno's crystal
+inline constexpr double avr_seconds(std::uint64_t cycles) { return static_cast<double>(cycles) / kAvrClockHz; }
+inline constexpr double avr_microseconds(double cycles) { return cycles * 1e6 / kAvrClockHz; }
+
 struct BoardOptions {
   // The RC low-pass between a PWM pin (490/980 Hz) and its regulator's 0-10 V input: 10 ms (assumed; firmware/README.md
   // asks for a filter well above the PWM period and well below the regulator's own 0.1 s).
@@ -90,6 +94,7 @@ class AvrBoard final : public bridge::LineDevice {
   const BoardStats& stats() const;
   control::Pressures setpoints_kpa() const;  // what the regulators are told now (after the filter and the valve)
   control::WristAngles true_angles() const;  // the simulated wrist's joint angles [deg]
+  control::Pressures regulated_pressures_kpa() const;  // what the simulated regulators hold now
 
  private:
   struct Impl;

@@ -112,6 +112,8 @@ TrackingCase tracking_case(const io::CsvTable& t, int case_index) {
     return joint >= 0 ? joint : t.column(fmt::format("measured_{}_deg", axis));
   };
   const int c_fe = angle_column("fe"), c_ur = angle_column("ur");
+  // By default the log's first case: a trial of some of a config's controllers holds only their cases.
+  if (case_index < 0 && t.row_count() > 0) case_index = t.integer(0, c_case);
   std::array<int, 4> c_pressure{};
   for (std::size_t i = 0; i < 4; ++i) c_pressure[i] = t.column(kPressureColumns[i]);
 

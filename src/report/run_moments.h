@@ -43,7 +43,7 @@ struct RunMoments {
 
 struct MomentQuery {
   std::optional<double> at_s;  // tracking runs: the instant nearest this time instead of the extremes
-  int case_index = 0;          // tracking runs: which case (controller and repetition) of the log
+  int case_index = -1;         // tracking runs: which case (controller and repetition) of the log; -1 the first
 };
 
 // Throws std::runtime_error naming the problem: not a run directory, a log with missing columns, --at on a run
@@ -52,7 +52,7 @@ RunMoments run_moments(const std::filesystem::path& run_dir, const MomentQuery& 
 
 // A tracking case's poses in time order, one per logged control tick (the joint angles where the log has them,
 // else the IMU angles; the commanded pressures). Throws for a run of another kind or a case the log does not hold.
-std::vector<TimedPose> tracking_timeline(const std::filesystem::path& run_dir, int case_index);
+std::vector<TimedPose> tracking_timeline(const std::filesystem::path& run_dir, int case_index = -1);
 
 // The device a run simulated.
 sim::DeviceDescription run_device(const std::filesystem::path& run_dir);

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -123,7 +125,9 @@ TEST(InterruptedCalibration, FaultLeavesTheDeviceVentedAndSaysWhatDidNotRun) {
   EXPECT_GE(run.vents, 1U);
   EXPECT_GT(run.record.run_s, 25.0);
   EXPECT_LT(run.record.run_s, 32.0);
-  // 30 s in: the flexor's and the extensor's parts ran, the ulnar and radial muscles' and the pairs' did not.
+  // 30 s in: the flexor's parts ran, the extensor's steps were under way (they end at 34 s), its ramp and everything
+  // after it did not.
+  EXPECT_THAT(run.record.parts_not_run, Contains("extensor ramp"));
   EXPECT_THAT(run.record.parts_not_run, Contains("ulnar steps"));
   EXPECT_THAT(run.record.parts_not_run, Contains("radial ramp"));
   EXPECT_THAT(run.record.parts_not_run, Contains("ulnar/radial co-contraction"));

@@ -23,8 +23,10 @@ TEST(ExcitationRoutine, DefaultRoutineIsShortSafeAndExcitesEachMuscleAlone) {
   std::set<std::pair<int, double>> alone;  // (muscle, level) held with the others vented
   for (const auto& s : routine) {
     for (int m = 0; m < 4; ++m) {
-      EXPECT_GE(s.from_kpa[m], 0.0);
-      EXPECT_LE(s.to_kpa[m], 137.0);
+      for (double p : {s.from_kpa[m], s.to_kpa[m]}) {
+        EXPECT_GE(p, 0.0);
+        EXPECT_LE(p, 137.0);
+      }
     }
     const int active =
         static_cast<int>(std::count_if(s.to_kpa.begin(), s.to_kpa.end(), [](double v) { return v > 0; }));

@@ -109,6 +109,21 @@ TEST_F(RunMomentsTest, TrackingDrawsTheExtremesOrTheNearestInstant) {
   EXPECT_DOUBLE_EQ(timeline[2].t, 0.02);
 }
 
+// A trial of one of a config's controllers (`trial --controller model_based`) holds only that controller's cases: by
+// default the log's first case is drawn, whatever its number.
+TEST_F(RunMomentsTest, TrackingDefaultsToTheLogsFirstCase) {
+  const std::vector<std::string> columns = {"case",          "repetition",    "controller",     "t_s",
+                                            "true_fe_deg",   "true_ur_deg",   "cmd_flexor_kpa", "cmd_extensor_kpa",
+                                            "cmd_ulnar_kpa", "cmd_radial_kpa"};
+  const fs::path run = write_run("only_case_3", "tracking", columns,
+                                 {{"3", "0", "model_based", "0", "0", "0", "5", "5", "0", "0"},
+                                  {"3", "0", "model_based", "0.01", "8", "0", "30", "5", "0", "0"}});
+  const RunMoments m = run_moments(run);
+  ASSERT_FALSE(m.moments.empty());
+  EXPECT_EQ(m.moments[0].name, "case3_most_flexed");
+  EXPECT_EQ(tracking_timeline(run).size(), 2u);
+}
+
 TEST_F(RunMomentsTest, BadQueriesAndLogsNameTheProblem) {
   const fs::path run = tracking_run();
   EXPECT_THAT([&] { run_moments(run, {.case_index = 5}); },
