@@ -38,6 +38,28 @@ std::vector<double> weighted_residuals(const std::vector<PreparedTrial>& prepare
   return out;
 }
 
+// The diagonal of the pseudo-inverse of J^T J: a flat direction (a parameter the data do not see) gets an unbounded
+// variance.
+std::vector<double> unit_variances(const Eigen::MatrixXd& jacobian) {
+  const Eigen::Index p = jacobian.cols();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(jacobian.transpose() * jacobian);
+  const double largest = eigen.eigenvalues().maxCoeff();
+  Eigen::VectorXd inverse_values = eigen.eigenvalues();
+  for (Eigen::Index i = 0; i < p; ++i) {
+    inverse_values(i) = inverse_values(i) > 1e-12 * largest && inverse_values(i) > 0.0
+                            ? 1.0 / inverse_values(i)
+                            : std::numeric_limits<double>::infinity();
+  }
+  std::vector<double> out(static_cast<std::size_t>(p), 0.0);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const double v = eigen.eigenvectors()(k, i);
+      if (v * v > 1e-12) out[static_cast<std::size_t>(k)] += v * v * inverse_values(i);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const sim::DeviceDescription& nominal,
@@ -91,24 +113,10 @@ std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const s
   const double s2 = sum_squares / static_cast<double>(std::max<Eigen::Index>(1, n - p));
   rho = std::clamp(rho, 0.0, 0.999);
   const double correlation = (1.0 + rho) / (1.0 - rho);
-  // Pseudo-inverse of J^T J: a flat direction (a parameter the data do not see) gets an unbounded variance.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(jacobian.transpose() * jacobian);
-  const double largest = eigen.eigenvalues().maxCoeff();
-  Eigen::VectorXd inverse_values = eigen.eigenvalues();
-  for (Eigen::Index i = 0; i < p; ++i) {
-    inverse_values(i) = inverse_values(i) > 1e-12 * largest && inverse_values(i) > 0.0
-                            ? 1.0 / inverse_values(i)
-                            : std::numeric_limits<double>::infinity();
-  }
+  const std::vector<double> variances = unit_variances(jacobian);
   std::vector<ParameterInterval> out;
   for (std::size_t k = 0; k < slots.size(); ++k) {
-    const auto kk = static_cast<Eigen::Index>(k);
-    double variance = 0.0;
-    for (Eigen::Index i = 0; i < p; ++i) {
-      const double v = eigen.eigenvectors()(kk, i);
-      if (v * v > 1e-12) variance += v * v * inverse_values(i);
-    }
-    const double half = 1.959964 * std::sqrt(variance * s2 * correlation);
+    const double half = 1.959964 * std::sqrt(variances[k] * s2 * correlation);
     const Slot& s = slots[k];
     const double low_u = std::isfinite(half) ? std::max(0.0, u0[k] - half) : 0.0;
     const double high_u = std::isfinite(half) ? std::min(1.0, u0[k] + half) : 1.0;

@@ -97,6 +97,7 @@ std::vector<Moment> torque_validation_moments(const experiments::LogHeader& head
 }
 
 struct TrackingCase {
+  int index = 0;  // the case's number in the log
   std::string controller;
   int repetition = 0;
   std::vector<TimedPose> poses;
@@ -117,7 +118,7 @@ TrackingCase tracking_case(const io::CsvTable& t, int case_index) {
   std::array<int, 4> c_pressure{};
   for (std::size_t i = 0; i < 4; ++i) c_pressure[i] = t.column(kPressureColumns[i]);
 
-  TrackingCase result;
+  TrackingCase result{.index = case_index};
   for (std::size_t row = 0; row < t.row_count(); ++row) {
     if (t.number(row, c_case) != case_index) continue;
     if (result.poses.empty()) {
@@ -140,7 +141,7 @@ std::vector<Moment> tracking_moments(const io::CsvTable& t, const MomentQuery& q
   const TrackingCase c = tracking_case(t, query.case_index);
   const std::string who = fmt::format("{} controller, repetition {}", c.controller, c.repetition);
   const auto moment = [&](const TimedPose& p, const std::string& what, const std::string& name, View view) {
-    return Moment{fmt::format("case{}_{}", query.case_index, name),
+    return Moment{fmt::format("case{}_{}", c.index, name),
                   fmt::format("{}, {} at t = {:.2f} s: {} (commanded)", who, what, p.t, describe(p.pose)), p.pose,
                   view};
   };
@@ -148,7 +149,7 @@ std::vector<Moment> tracking_moments(const io::CsvTable& t, const MomentQuery& q
   if (query.at_s) {
     const double at = *query.at_s;
     if (!std::isfinite(at) || at < c.poses.front().t || at > c.poses.back().t) {
-      throw std::runtime_error(fmt::format("--at {} s is outside case {} ({:.2f} to {:.2f} s)", at, query.case_index,
+      throw std::runtime_error(fmt::format("--at {} s is outside case {} ({:.2f} to {:.2f} s)", at, c.index,
                                            c.poses.front().t, c.poses.back().t));
     }
     const auto nearest = std::min_element(c.poses.begin(), c.poses.end(), [at](const TimedPose& a, const TimedPose& b) {

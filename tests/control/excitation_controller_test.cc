@@ -23,9 +23,9 @@ TEST(ExcitationRoutine, DefaultRoutineIsShortSafeAndExcitesEachMuscleAlone) {
   std::set<std::pair<int, double>> alone;  // (muscle, level) held with the others vented
   for (const auto& s : routine) {
     for (int m = 0; m < 4; ++m) {
-      for (double p : {s.from_kpa[m], s.to_kpa[m]}) {
-        EXPECT_GE(p, 0.0);
-        EXPECT_LE(p, 137.0);
+      for (double kpa : {s.from_kpa[m], s.to_kpa[m]}) {
+        EXPECT_GE(kpa, 0.0);
+        EXPECT_LE(kpa, 137.0);
       }
     }
     const int active =
