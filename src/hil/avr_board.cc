@@ -171,6 +171,7 @@ struct AvrBoard::Impl {
   }
   ~Impl() {
     if (avr) {
+      if (twi) avr_free_irq(twi, 2);
       avr_terminate(avr);  // frees its flash and data, not itself
       std::free(avr);
     }
