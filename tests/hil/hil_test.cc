@@ -5,6 +5,9 @@
 #include "hil/avr_board.h"
 
 #include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
 
 #include <unistd.h>
 
@@ -12,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "bridge/bridge_plant.h"
+#include "bridge/wire_format.h"
 #include "bridge_apps/hardware_trial.h"
 #include "bridge_apps/lockstep_link.h"
 #include "experiments/experiment.h"
@@ -168,6 +172,74 @@ TEST(FirmwareInTheLoop, SilentImuVentsWithin50ms) {
   ASSERT_GE(vent, 0);
   EXPECT_LE(vent - static_cast<long>(silent), 50);
   EXPECT_EQ(s.board.stats().resets, 0);  // a NACK is an error the Wire library returns, not a hang
+}
+
+// The host's end of the line written to directly, as a broken or hostile host would: packets the firmware must
+// check, not trust.
+struct RawHost {
+  RawHost() : board(kFirmware, nominal_plant()), rig(board), link(rig.open_host()) {}
+  void send(char type, std::initializer_list<int32_t> fields) {
+    wire::Packet p{};
+    p.type = type;
+    p.seq = seq++;
+    p.count = static_cast<uint8_t>(fields.size());
+    int i = 0;
+    for (int32_t f : fields) p.fields[i++] = f;
+    char buffer[wire::kMaxLine + 2];
+    const std::size_t n = wire::format_packet(p, buffer, sizeof buffer);
+    link->write_all(buffer, n);
+  }
+  // Commands `dkpa` to the flexor every 14 ms for `ms`, reading (and dropping) what the device sends.
+  void command_for(int32_t dkpa, int ms) {
+    char sink[512];
+    for (int t = 0; t < ms; t += 14) {
+      send(wire::kSetPacket, {dkpa, 0, 0, 0});
+      last_command_ms = rig.now_ms();
+      while (link->read_some(sink, sizeof sink, 0) > 0) {
+      }
+      rig.run_for_ms(14);
+    }
+  }
+  AvrBoard board;
+  bridge::LockstepLink rig;
+  std::unique_ptr<bridge::Link> link;
+  std::uint16_t seq = 0;
+  std::uint32_t last_command_ms = 0;
+};
+
+// A command above the regulators' range reaches the firmware (a host without the host-side gate): it is clamped to
+// 137 kPa, never passed on.
+TEST(FirmwareInTheLoop, CommandAboveTheLimitIsClamped) {
+  RawHost h;
+  h.send(wire::kHelloPacket, {wire::kProtocolVersion});
+  h.rig.run_for_ms(20);
+  h.command_for(5000, 600);  // 500 kPa
+  EXPECT_GT(h.board.stats().max_setpoint_kpa, 130.0);
+  EXPECT_LE(h.board.stats().max_setpoint_kpa, 137.0 + 1e-9);
+}
+
+// Garbage on the line in a session: never acted on (no setpoint beyond what was commanded), and a burst long enough
+// to keep valid commands from arriving for the watchdog's 40 ms vents within 50 ms of the last valid command.
+TEST(FirmwareInTheLoop, GarbageIsNeverActedOnAndAStarvedLinkVents) {
+  RawHost h;
+  h.send(wire::kHelloPacket, {wire::kProtocolVersion});
+  h.rig.run_for_ms(20);
+  h.command_for(800, 300);  // 80 kPa
+  ASSERT_FALSE(h.board.stats().vented);
+  std::mt19937 rng(7);
+  std::string junk(2000, '\0');  // 174 ms of line time at 115200 baud
+  for (char& c : junk) c = static_cast<char>(rng() & 0xFF);
+  const std::uint32_t last_valid = h.last_command_ms;
+  h.link->write_all(junk.data(), junk.size());
+  h.command_for(800, 300);  // queued behind the garbage
+  long vent = -1;
+  for (std::uint32_t t : h.board.stats().vent_ms) {
+    if (t >= last_valid && vent < 0) vent = static_cast<long>(t);
+  }
+  ASSERT_GE(vent, 0);
+  EXPECT_LE(vent - static_cast<long>(last_valid), 50);
+  EXPECT_LE(h.board.stats().max_setpoint_kpa, 80.0 + 0.5 * 137.0 / 255.0);
+  EXPECT_TRUE(h.board.stats().vented);
 }
 
 }  // namespace
