@@ -43,7 +43,11 @@ class Bno055 {
     q->x = raw[1] * scale;
     q->y = raw[2] * scale;
     q->z = raw[3] * scale;
-    return q->w * q->w + q->x * q->x + q->y * q->y + q->z * q->z > 0.5f;  // all zeros until fusion runs
+    // A fused orientation is a unit quaternion: all zeros until fusion runs, and anything far from norm 1 is not a
+    // reading (a slave that stopped sending mid-transfer left the bus's last byte in every register; taken as valid,
+    // its angles kept the regulators pressurised: found by the firmware in the loop, StuckImuVentsWithin50ms).
+    const float norm2 = q->w * q->w + q->x * q->x + q->y * q->y + q->z * q->z;
+    return norm2 > 0.81f && norm2 < 1.21f;
   }
 
  private:

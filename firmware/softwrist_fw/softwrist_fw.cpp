@@ -81,6 +81,10 @@ void setup() {
   Serial.begin(115200);
   Wire.begin();
   Wire.setClock(400000);
+  // A slave that holds the bus makes the Wire library wait forever by default: give up after 5 ms and reset the bus,
+  // so a stuck IMU is an invalid reading (the gate vents within 40 ms), not a hung loop (the hardware watchdog's 60
+  // ms).
+  Wire.setWireTimeout(5000, true);
   forearm_imu.begin();
   hand_imu.begin();
   // The AVR's own watchdog: a loop that hangs (an I2C bus fault can stall the Wire library forever) resets the

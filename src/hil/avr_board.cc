@@ -65,6 +65,7 @@ constexpr double kMonitorFullScaleMv = 5000.0;
 struct Bno055Slave {
   std::uint8_t address = 0;  // 7-bit
   bool silent = false;
+  bool stuck = false;                                      // acknowledges, then never sends the bytes it was asked for
   std::array<std::int16_t, 4> quaternion{16384, 0, 0, 0};  // w, x, y, z at 2^14 per unit
   std::uint8_t mode = 0;
   std::uint8_t reg = 0;
@@ -269,6 +270,7 @@ struct AvrBoard::Impl {
       }
       ++selected->index;
     }
+    if ((msg & TWI_COND_READ) && selected->stuck) return;
     if (msg & TWI_COND_READ) {
       if (selected->reg == 0x20) {
         ++stats.i2c_reads;
@@ -423,6 +425,8 @@ void AvrBoard::tick(std::uint32_t t_ms, bridge::DeviceUart& uart) {
 void AvrBoard::set_safety_switch_open(bool open) { impl_->set_safety_switch(open); }
 
 void AvrBoard::set_imu_silent(int imu, bool silent) { impl_->imus.at(static_cast<std::size_t>(imu)).silent = silent; }
+
+void AvrBoard::set_imu_stuck(int imu, bool stuck) { impl_->imus.at(static_cast<std::size_t>(imu)).stuck = stuck; }
 
 const BoardStats& AvrBoard::stats() const { return impl_->stats; }
 

@@ -90,6 +90,8 @@ class AvrBoard final : public bridge::LineDevice {
   // answering on the bus (or answers again).
   void set_safety_switch_open(bool open);
   void set_imu_silent(int imu, bool silent);
+  // An IMU that acknowledges its address, then never sends the bytes asked for.
+  void set_imu_stuck(int imu, bool stuck);
 
   const BoardStats& stats() const;
   control::Pressures setpoints_kpa() const;  // what the regulators are told now (after the filter and the valve)
