@@ -127,10 +127,19 @@ void on_bridge(const BridgeCommandOptions& o,
   if (!o.emulator.empty()) {
     // The lock-step rig (issue 27): the same firmware rules, bytes and host, on one simulated clock, so the
     // rehearsal's result does not depend on how busy the machine is.
-    bridge::DeviceEmulator emulator(bridge::load_emulator_config(o.emulator));
-    bridge::LockstepLink rig(emulator, {.baud = o.baud});
+    // With --firmware, the real firmware on a simulated board in front of the same plant (docs/hil.md).
+    const bridge::EmulatorConfig config = bridge::load_emulator_config(o.emulator);
+    std::unique_ptr<bridge::LineDevice> device;
+    if (o.firmware.empty()) {
+      device = std::make_unique<bridge::DeviceEmulator>(config);
+    } else {
+      device = std::make_unique<hil::AvrBoard>(o.firmware, config);
+    }
+    bridge::LockstepLink rig(*device, {.baud = o.baud});
     bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
-    use(plant, fmt::format("the emulator {} (simulated time)", o.emulator));
+    use(plant, o.firmware.empty() ? fmt::format("the emulator {} (simulated time)", o.emulator)
+                                  : fmt::format("the firmware {} on a simulated ATmega328P, plant {} (simulated time)",
+                                                o.firmware, o.emulator));
     return;
   }
   bridge::BridgePlant plant(bridge::SerialPort::Open(o.device, o.baud), bridge_options);
@@ -143,6 +152,12 @@ void add_bridge_options(CLI::App& command, BridgeCommandOptions& o) {
       .add_option("--emulator", o.emulator,
                   "Instead of --device: the device emulator of this config (softwrist.emulator/1) and the host on "
                   "one simulated clock, in this process (the same result on any machine, however busy)")
+      ->check(CLI::ExistingFile)
+      ->excludes(device_option);
+  command
+      .add_option("--firmware", o.firmware,
+                  "With --emulator: the real firmware (an ELF, scripts/build_firmware.sh) on a simulated ATmega328P "
+                  "in front of the emulator config's plant (docs/hil.md)")
       ->check(CLI::ExistingFile)
       ->excludes(device_option);
   command.add_option("--max-kpa", o.max_kpa, "The host's pressure limit (the device's applies too)");

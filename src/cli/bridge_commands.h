@@ -17,6 +17,7 @@ namespace softwrist::cli {
 struct BridgeCommandOptions {
   std::string device;
   std::string emulator;
+  std::string firmware;  // with emulator: the real firmware on a simulated board in front of its plant
   double max_kpa = physics::kRegulatorMaxPressureKpa;
   int timeout_ms = 40;
   int baud = 115200;

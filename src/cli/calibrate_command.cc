@@ -123,6 +123,7 @@ struct CalibrateBenchOptions {
   std::string planar = "experiments/planar_tracking.json", spatial = "experiments/spatial_tracking.json";
   std::string routine = "experiments/calibration_routine.json";
   std::string out = "out/bench_calibrate";
+  std::string firmware;  // through the firmware in the loop
   int jobs = 2;
   bool json = false;
 };
@@ -143,7 +144,7 @@ nlohmann::json track_with(const std::string& task_config, const fs::path& model,
   config.json["controllers"] = nlohmann::json::array({{{"name", "model_based"}, {"model", fs::absolute(model)}}});
   config.json["repetitions"] = 1;
   nlohmann::json summary;
-  on_bridge({.emulator = o.emulator}, [&](bridge::BridgePlant& plant, const std::string&) {
+  on_bridge({.emulator = o.emulator, .firmware = o.firmware}, [&](bridge::BridgePlant& plant, const std::string&) {
     const bridge::TrialResult result = bridge::run_trial(config, plant, {.out = out, .overwrite = true});
     if (result.fault) throw std::runtime_error(fmt::format("{}: {}", task_config, *result.fault));
     summary = result.summary["controllers"][0];
@@ -189,7 +190,7 @@ void bench_calibrate(const CalibrateBenchOptions& o, std::ostream& out, std::ost
   const fs::path truth = dir / "true_model.json";
   std::ofstream(truth) << sim::device_to_json(bridge::emulated_description(bridge::load_emulator_config(o.emulator)));
 
-  const CalibrateOptions c{.bridge = {.emulator = o.emulator},
+  const CalibrateOptions c{.bridge = {.emulator = o.emulator, .firmware = o.firmware},
                            .placement = o.placement,
                            .out = (dir / "calibration").string(),
                            .routine = o.routine,
@@ -206,6 +207,7 @@ void bench_calibrate(const CalibrateBenchOptions& o, std::ostream& out, std::ost
   models["true"] = tracking_figures(truth, o, "true");
   const nlohmann::json result = {
       {"emulator", o.emulator},
+      {"firmware", o.firmware.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.firmware)},
       {"routine_s", run->routine.planned_s},
       {"calibration_wall_s", run->wall_s},
       {"parameters", record["parameters"]},
@@ -262,6 +264,10 @@ void add_calibrate_bench(CLI::App& bench, std::ostream& out, std::ostream& err) 
   command->add_option("--placement", o->placement, "Its nominal placement file")->check(CLI::ExistingFile);
   command->add_option("--out", o->out, "Where the runs go");
   command->add_option("--jobs", o->jobs, "Threads of the fit");
+  command
+      ->add_option("--firmware", o->firmware,
+                   "Run the routine and the tracking through this firmware on a simulated ATmega328P (docs/hil.md)")
+      ->check(CLI::ExistingFile);
   command->add_flag("--json", o->json, "Print the figures as JSON");
   command->callback([o, &out, &err] { bench_calibrate(*o, out, err); });
 }

@@ -158,6 +158,9 @@ TEST_F(CliRun, BridgeCommandsNameTheirBadArguments) {
   const auto both = run({"trial", config, "--device", "/dev/null", "--emulator", config});
   EXPECT_EQ(both.code, 2);
   EXPECT_THAT(both.err, HasSubstr("excludes"));
+  const auto firmware_on_device = run({"trial", config, "--device", "/dev/null", "--firmware", config});
+  EXPECT_EQ(firmware_on_device.code, 2);
+  EXPECT_THAT(firmware_on_device.err, HasSubstr("excludes"));
   const auto neither = run({"trial", config});
   EXPECT_EQ(neither.code, 2);
   EXPECT_THAT(neither.err, HasSubstr("give one of --device and --emulator"));
