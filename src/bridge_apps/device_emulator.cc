@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "bridge/device_protocol.h"
+#include "bridge/pwm_scaling.h"
 #include "experiments/simulated_device.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
@@ -299,7 +300,11 @@ void DeviceEmulator::update_outputs(std::uint32_t t) {
   // A regulator saturates at its range whatever the device's configured limit (the plant refuses anything else).
   const double max_kpa = device_->plant.max_pressure_kpa();
   control::Pressures setpoints_kpa{};
-  for (std::size_t i = 0; i < 4; ++i) setpoints_kpa[i] = std::clamp(applied[i] / 10.0, 0.0, max_kpa);
+  // Through the firmware's 8-bit PWM (pwm_scaling.h): the regulators see its 0.54 kPa steps.
+  for (std::size_t i = 0; i < 4; ++i) {
+    const bool fast = wire::fast_pwm_muscle(static_cast<int>(i));
+    setpoints_kpa[i] = std::clamp(wire::pwm_setpoint_kpa(wire::pwm_value(applied[i], fast), fast), 0.0, max_kpa);
+  }
   device_->plant.command_pressures_kpa(setpoints_kpa);
 }
 
