@@ -56,6 +56,7 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
       if (c.effects.regulator_dead_time_s > 1.0) g.fail("dead_time_s", "is above 1 s");
       g.finish();
     }
+    c.effects.pwm_steps = e.boolean("pwm_steps", true);
     if (e.has("passive_wrist")) {
       io::JsonReader w = e.child("passive_wrist");
       c.effects.wrist_stiffness_scale = w.positive("stiffness_scale", 1.0);
@@ -303,7 +304,9 @@ void DeviceEmulator::update_outputs(std::uint32_t t) {
   // Through the firmware's 8-bit PWM (pwm_scaling.h): the regulators see its 0.54 kPa steps.
   for (std::size_t i = 0; i < 4; ++i) {
     const bool fast = wire::fast_pwm_muscle(static_cast<int>(i));
-    setpoints_kpa[i] = std::clamp(wire::pwm_setpoint_kpa(wire::pwm_value(applied[i], fast), fast), 0.0, max_kpa);
+    const double kpa =
+        config_.effects.pwm_steps ? wire::pwm_setpoint_kpa(wire::pwm_value(applied[i], fast), fast) : applied[i] / 10.0;
+    setpoints_kpa[i] = std::clamp(kpa, 0.0, max_kpa);
   }
   device_->plant.command_pressures_kpa(setpoints_kpa);
 }

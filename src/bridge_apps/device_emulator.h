@@ -42,6 +42,9 @@ struct EmulatorEffects {
   std::optional<double> regulator_time_constant_s;         // replaces the placement file's
   double wrist_stiffness_scale = 1.0;                      // the relaxed wrist's stiffness, both axes, times this
   double wrist_damping_scale = 1.0;                        // and its damping
+  // The regulators see the setpoints through the firmware's 8-bit PWM (bridge/pwm_scaling.h), as on the Uno; off,
+  // exactly (to compare the bridge's path with the simulation, which has no PWM).
+  bool pwm_steps = true;
   double regulator_dead_time_s = 0.0;
   double imu_noise_std_deg = 0.0;
   double imu_bias_fe_deg = 0.0, imu_bias_ur_deg = 0.0;

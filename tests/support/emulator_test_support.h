@@ -15,11 +15,13 @@
 
 namespace softwrist::testing {
 
-// The range-of-motion device exactly as modelled, the hand on the table (as the planar experiments).
+// The range-of-motion device exactly as modelled, the hand on the table (as the planar experiments), the regulators
+// given the setpoints exactly (no PWM steps, which the simulation does not have).
 inline bridge::EmulatorConfig nominal_emulator_config() {
   bridge::EmulatorConfig c;
   c.model = SOFTWRIST_SOURCE_DIR "/models/rom_device.json";
   c.gravity = 0.0;
+  c.effects.pwm_steps = false;
   return c;
 }
 
