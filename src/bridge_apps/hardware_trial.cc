@@ -172,6 +172,7 @@ void run_repetition(const TrialContext& trial, control::Controller& controller, 
                     {"completed", false},
                     {"fault", e.what()}});
   }
+  result.rows_logged += rows;
 }
 
 }  // namespace

@@ -40,6 +40,7 @@ struct TrialOptions {
 struct TrialResult {
   int runs_planned = 0;
   int runs_completed = 0;
+  long rows_logged = 0;              // over all runs, those a fault ended included
   std::optional<std::string> fault;  // what ended the trial early
   nlohmann::json summary;            // of the completed runs, when there are any
 };

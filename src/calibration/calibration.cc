@@ -29,15 +29,6 @@ const experiments::Tracking& routine_of(const experiments::ExperimentConfig& con
   return *tracking;
 }
 
-// The rows the run logged, from bridge.json (0 when it holds none).
-long logged_rows(const fs::path& log_dir) {
-  std::ifstream file(log_dir / "bridge.json");
-  if (!file) return 0;
-  const nlohmann::json record = nlohmann::json::parse(file, nullptr, false);
-  if (record.is_discarded() || !record.contains("runs") || record["runs"].empty()) return 0;
-  return record["runs"].back().value("rows", 0L);
-}
-
 }  // namespace
 
 std::vector<EffectId> identifiable_effects() {
@@ -74,7 +65,7 @@ RoutineRecord run_routine(const experiments::ExperimentConfig& config, bridge::B
   }
   const bridge::TrialResult result = bridge::run_trial(config, plant, {.out = log_dir, .overwrite = overwrite});
   const double period_s = routine.make_controllers().front()->period_s();
-  record.run_s = std::min(record.planned_s, static_cast<double>(logged_rows(log_dir)) * period_s);
+  record.run_s = std::min(record.planned_s, static_cast<double>(result.rows_logged) * period_s);
   record.fault = result.fault;
   // The parts of the routine that did not run to their end.
   double end = 0.0;
@@ -137,6 +128,14 @@ Calibration calibrate_from_logs(const fs::path& log_dir, const sim::DeviceDescri
   return c;
 }
 
+nlohmann::json to_json(const RoutineRecord& routine) {
+  return {{"log", routine.log_dir.string()},
+          {"planned_s", routine.planned_s},
+          {"run_s", routine.run_s},
+          {"fault", routine.fault ? nlohmann::json(*routine.fault) : nlohmann::json(nullptr)},
+          {"parts_not_run", routine.parts_not_run}};
+}
+
 nlohmann::json write_calibration(const Calibration& c, const RoutineRecord& routine, const fs::path& dir,
                                  double wall_s) {
   fs::create_directories(dir);
@@ -168,12 +167,7 @@ nlohmann::json write_calibration(const Calibration& c, const RoutineRecord& rout
                                {{"heldout_error_nominal", c.diagnosis.heldout_nominal},
                                 {"heldout_error_calibrated", c.diagnosis.heldout_corrected},
                                 {"error_metric", diagnosis::kErrorMetric}}},
-                              {"routine",
-                               {{"log", routine.log_dir.string()},
-                                {"planned_s", routine.planned_s},
-                                {"run_s", routine.run_s},
-                                {"fault", routine.fault ? nlohmann::json(*routine.fault) : nlohmann::json(nullptr)},
-                                {"parts_not_run", routine.parts_not_run}}},
+                              {"routine", to_json(routine)},
                               {"wall_s", wall_s}};
   std::ofstream(dir / "calibration.json") << out.dump(2) << '\n';
   return out;

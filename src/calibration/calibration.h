@@ -48,6 +48,9 @@ struct RoutineRecord {
 RoutineRecord run_routine(const experiments::ExperimentConfig& config, bridge::BridgePlant& plant,
                           const std::filesystem::path& log_dir, bool overwrite = false);
 
+// calibration.json's "routine": the log, planned and run length, fault, parts not run.
+nlohmann::json to_json(const RoutineRecord& routine);
+
 struct CalibrationOptions {
   int jobs = 2;
   int bootstrap = 100;

@@ -119,27 +119,34 @@ bridge::BridgeOptions check_bridge_options(const BridgeCommandOptions& o) {
   return b;
 }
 
+// The host on the lock-step rig (issue 27) with `device` at the end of its line: the same firmware rules, bytes and
+// host, on one simulated clock, so the result does not depend on how busy the machine is.
+void on_lockstep(bridge::LineDevice& device, int baud, const bridge::BridgeOptions& bridge_options,
+                 const std::string& where,
+                 const std::function<void(bridge::BridgePlant& plant, const std::string& where)>& use) {
+  bridge::LockstepLink rig(device, {.baud = baud});
+  bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
+  use(plant, where);
+}
+
 }  // namespace
 
 void on_bridge(const BridgeCommandOptions& o,
                const std::function<void(bridge::BridgePlant& plant, const std::string& where)>& use) {
   const bridge::BridgeOptions bridge_options = check_bridge_options(o);
   if (!o.emulator.empty()) {
-    // The lock-step rig (issue 27): the same firmware rules, bytes and host, on one simulated clock, so the
-    // rehearsal's result does not depend on how busy the machine is.
     // With --firmware, the real firmware on a simulated board in front of the same plant (docs/hil.md).
     const bridge::EmulatorConfig config = bridge::load_emulator_config(o.emulator);
-    std::unique_ptr<bridge::LineDevice> device;
     if (o.firmware.empty()) {
-      device = std::make_unique<bridge::DeviceEmulator>(config);
+      bridge::DeviceEmulator emulator(config);
+      on_lockstep(emulator, o.baud, bridge_options, fmt::format("the emulator {} (simulated time)", o.emulator), use);
     } else {
-      device = std::make_unique<hil::AvrBoard>(o.firmware, config);
+      hil::AvrBoard board(o.firmware, config);
+      on_lockstep(
+          board, o.baud, bridge_options,
+          fmt::format("the firmware {} on a simulated ATmega328P, plant {} (simulated time)", o.firmware, o.emulator),
+          use);
     }
-    bridge::LockstepLink rig(*device, {.baud = o.baud});
-    bridge::BridgePlant plant(rig.open_host(), rig, bridge_options);
-    use(plant, o.firmware.empty() ? fmt::format("the emulator {} (simulated time)", o.emulator)
-                                  : fmt::format("the firmware {} on a simulated ATmega328P, plant {} (simulated time)",
-                                                o.firmware, o.emulator));
     return;
   }
   bridge::BridgePlant plant(bridge::SerialPort::Open(o.device, o.baud), bridge_options);
@@ -200,10 +207,11 @@ void hil(const HilCommandOptions& options, std::ostream& out, std::ostream& err)
     config.json["model"] = plant.model.string();
   }
   hil::AvrBoard board(options.firmware, plant);
-  bridge::LockstepLink rig(board, {.baud = options.trial.bridge.baud});
-  bridge::BridgePlant bridge_plant(rig.open_host(), rig, check_bridge_options({.emulator = options.emulator}));
-  run_trial_on(options.trial, config, bridge_plant,
-               fmt::format("the firmware {} on a simulated ATmega328P (simulated time)", options.firmware), out, err);
+  on_lockstep(board, options.trial.bridge.baud, {},
+              fmt::format("the firmware {} on a simulated ATmega328P (simulated time)", options.firmware),
+              [&](bridge::BridgePlant& bridge_plant, const std::string& where) {
+                run_trial_on(options.trial, config, bridge_plant, where, out, err);
+              });
   const hil::BoardStats& s = board.stats();
   out << fmt::format(
       "board: {:.1f} s of AVR time, {} resets, {} bytes from the firmware, {} to it, {} IMU reads; loop max {:.0f} us, "

@@ -92,12 +92,7 @@ void calibrate(const CalibrateOptions& o, std::ostream& out, std::ostream& err) 
     fs::create_directories(dir);
     const nlohmann::json record = {
         {"calibrated", nullptr},
-        {"routine",
-         {{"log", (dir / "routine").string()},
-          {"planned_s", run->routine.planned_s},
-          {"run_s", run->routine.run_s},
-          {"fault", run->routine.fault ? nlohmann::json(*run->routine.fault) : nlohmann::json(nullptr)},
-          {"parts_not_run", run->routine.parts_not_run}}},
+        {"routine", calibration::to_json(run->routine)},
         {"not_identified",
          nlohmann::json::array({{{"what", "everything"}, {"why", "too little of the routine ran to fit anything"}}})}};
     std::ofstream(dir / "calibration.json") << record.dump(2) << '\n';

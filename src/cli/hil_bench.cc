@@ -1,16 +1,13 @@
 // `softwrist bench hil`: the firmware in the loop's speed, timing and size (src/hil/avr_board.h).
-#include <chrono>
 #include <filesystem>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "bridge_apps/device_emulator.h"
-#include "bridge_apps/hardware_trial.h"
-#include "bridge_apps/lockstep_link.h"
 #include "cli/arguments.h"
 #include "cli/bridge_commands.h"
 #include "hil/avr_board.h"
+#include "hil/side_by_side.h"
 
 namespace softwrist::cli {
 namespace {
@@ -28,34 +25,12 @@ struct HilBenchOptions {
 void bench_hil(const HilBenchOptions& o, std::ostream& out) {
   const experiments::ExperimentConfig config = experiments::load_experiment_config(o.config);
   const bridge::EmulatorConfig plant = bridge::load_emulator_config(o.emulator);
-  const fs::path dir(o.out);
-  const bridge::TrialOptions trial{.out = dir / "hil", .controllers = {"paper"}, .repetitions = 1, .overwrite = true};
-
-  // Through the firmware, timed.
-  hil::AvrBoard board(o.firmware, plant);
-  bridge::LockstepLink rig(board);
-  const auto start = std::chrono::steady_clock::now();
-  {
-    bridge::BridgePlant host(rig.open_host(), rig, {});
-    const bridge::TrialResult r = bridge::run_trial(config, host, trial);
-    if (r.fault) throw std::runtime_error("bench hil: the trial through the firmware stopped: " + *r.fault);
-  }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // The same on the emulator: the firmware's C++ twin, for the comparison.
-  {
-    bridge::DeviceEmulator emulator(plant);
-    bridge::LockstepLink emulator_rig(emulator);
-    bridge::BridgePlant host(emulator_rig.open_host(), emulator_rig, {});
-    bridge::TrialOptions emulated = trial;
-    emulated.out = dir / "emulator";
-    const bridge::TrialResult r = bridge::run_trial(config, host, emulated);
-    if (r.fault) throw std::runtime_error("bench hil: the trial on the emulator stopped: " + *r.fault);
-  }
-  const hil::BoardStats& s = board.stats();
-  const double avr_s = hil::avr_seconds(s.cycles);
+  const hil::SideBySide run = hil::run_side_by_side(
+      config, plant, o.firmware, {.controllers = {"paper"}, .repetitions = 1, .overwrite = true}, fs::path(o.out));
+  const hil::BoardStats& s = run.board;
+  const double avr_s = hil::avr_seconds(s.cycles), wall_s = run.firmware_wall_s;
   const hil::FirmwareSize size = hil::firmware_size(o.firmware);
-  const hil::AngleDifference diff =
-      hil::measured_angle_difference(dir / "hil" / "trials.csv", dir / "emulator" / "trials.csv");
+  const hil::AngleDifference& diff = run.angles;
   const auto us = [](double cycles) { return hil::avr_microseconds(cycles); };
   const nlohmann::json result = {
       {"experiment", o.config},

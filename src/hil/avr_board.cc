@@ -30,7 +30,6 @@ extern "C" {
 
 #include "bridge/wire_format.h"
 #include "experiments/simulated_device.h"
-#include "io/csv.h"
 #include "physics/units.h"
 #include "sim/simulated_plant.h"
 
@@ -98,13 +97,33 @@ std::array<std::int16_t, 4> hand_quaternion(double fe_rad, double ur_rad) {
 
 // The addresses of the named symbols in an AVR ELF (data addresses without the ELF's 0x800000 data-space offset); 0
 // where a name is missing.
+// An ELF file opened with libelf for reading; get() is null when it is not one (or cannot be opened).
+class ElfFile {
+ public:
+  explicit ElfFile(const std::filesystem::path& path) {
+    elf_version(EV_CURRENT);
+    fd_ = ::open(path.c_str(), O_RDONLY);
+    if (fd_ >= 0) elf_ = elf_begin(fd_, ELF_C_READ, nullptr);
+  }
+  ~ElfFile() {
+    if (elf_) elf_end(elf_);
+    if (fd_ >= 0) ::close(fd_);
+  }
+  ElfFile(const ElfFile&) = delete;
+  ElfFile& operator=(const ElfFile&) = delete;
+  Elf* get() const { return elf_; }
+  bool opened() const { return fd_ >= 0; }
+
+ private:
+  int fd_ = -1;
+  Elf* elf_ = nullptr;
+};
+
 std::array<std::uint32_t, 2> symbol_addresses(const std::filesystem::path& elf_path,
                                               const std::array<const char*, 2>& names) {
   std::array<std::uint32_t, 2> out{};
-  elf_version(EV_CURRENT);
-  const int fd = ::open(elf_path.c_str(), O_RDONLY);
-  if (fd < 0) return out;
-  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  const ElfFile file(elf_path);
+  Elf* elf = file.get();
   for (Elf_Scn* scn = elf ? elf_nextscn(elf, nullptr) : nullptr; scn; scn = elf_nextscn(elf, scn)) {
     GElf_Shdr header;
     if (!gelf_getshdr(scn, &header) || header.sh_type != SHT_SYMTAB || header.sh_entsize == 0) continue;
@@ -118,8 +137,6 @@ std::array<std::uint32_t, 2> symbol_addresses(const std::filesystem::path& elf_p
       }
     }
   }
-  if (elf) elf_end(elf);
-  ::close(fd);
   return out;
 }
 
@@ -144,15 +161,10 @@ void free_firmware(elf_firmware_t& f) {
 
 // An ELF for the AVR (simavr's reader accepts other files without complaint).
 bool is_avr_elf(const std::filesystem::path& path) {
-  elf_version(EV_CURRENT);
-  const int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) return false;
-  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  const ElfFile file(path);
   GElf_Ehdr header;
-  const bool avr = elf && elf_kind(elf) == ELF_K_ELF && gelf_getehdr(elf, &header) && header.e_machine == EM_AVR;
-  if (elf) elf_end(elf);
-  ::close(fd);
-  return avr;
+  return file.get() && elf_kind(file.get()) == ELF_K_ELF && gelf_getehdr(file.get(), &header) &&
+         header.e_machine == EM_AVR;
 }
 
 }  // namespace
@@ -443,48 +455,22 @@ control::Pressures AvrBoard::regulated_pressures_kpa() const {
 }
 
 FirmwareSize firmware_size(const std::filesystem::path& firmware) {
-  elf_version(EV_CURRENT);
-  const int fd = ::open(firmware.c_str(), O_RDONLY);
-  if (fd < 0) throw std::runtime_error(firmware.string() + ": cannot open");
-  Elf* elf = elf_begin(fd, ELF_C_READ, nullptr);
+  const ElfFile file(firmware);
+  if (!file.opened()) throw std::runtime_error(firmware.string() + ": cannot open");
+  Elf* elf = file.get();
   std::size_t names = 0;
-  if (!elf || elf_getshdrstrndx(elf, &names) != 0) {
-    if (elf) elf_end(elf);
-    ::close(fd);
-    throw std::runtime_error(firmware.string() + ": not an ELF file");
-  }
+  if (!elf || elf_getshdrstrndx(elf, &names) != 0) throw std::runtime_error(firmware.string() + ": not an ELF file");
   FirmwareSize size;
   for (Elf_Scn* scn = elf_nextscn(elf, nullptr); scn; scn = elf_nextscn(elf, scn)) {
     GElf_Shdr header;
-    if (!gelf_getshdr(scn, &header)) continue;
-    const std::string_view name = elf_strptr(elf, names, header.sh_name);
+    const char* name = gelf_getshdr(scn, &header) ? elf_strptr(elf, names, header.sh_name) : nullptr;
+    if (!name) continue;
+    const std::string_view section = name;
     const long bytes = static_cast<long>(header.sh_size);
-    if (name == ".text" || name == ".data") size.flash_bytes += bytes;
-    if (name == ".data" || name == ".bss") size.ram_bytes += bytes;
+    if (section == ".text" || section == ".data") size.flash_bytes += bytes;
+    if (section == ".data" || section == ".bss") size.ram_bytes += bytes;
   }
-  elf_end(elf);
-  ::close(fd);
   return size;
-}
-
-AngleDifference measured_angle_difference(const std::filesystem::path& log_a, const std::filesystem::path& log_b) {
-  const io::CsvTable a = io::CsvTable::Read(log_a), b = io::CsvTable::Read(log_b);
-  if (a.row_count() != b.row_count()) {
-    throw std::runtime_error(fmt::format("{} has {} rows, {} has {}: not the same run", log_a.string(), a.row_count(),
-                                         log_b.string(), b.row_count()));
-  }
-  AngleDifference d{.rows = a.row_count()};
-  double sum = 0.0;
-  for (const char* name : {"measured_fe_deg", "measured_ur_deg"}) {
-    const int ca = a.column(name), cb = b.column(name);
-    for (std::size_t r = 0; r < a.row_count(); ++r) {
-      const double diff = a.number(r, ca) - b.number(r, cb);
-      sum += diff * diff;
-      d.max_deg = std::max(d.max_deg, std::abs(diff));
-    }
-  }
-  d.rms_deg = d.rows > 0 ? std::sqrt(sum / (2.0 * static_cast<double>(d.rows))) : 0.0;
-  return d;
 }
 
 }  // namespace softwrist::hil

@@ -65,15 +65,6 @@ struct FirmwareSize {
 };
 FirmwareSize firmware_size(const std::filesystem::path& firmware);
 
-// How far two trial logs' measured angles lie apart, row by row (the same experiment run two ways: through the
-// firmware and on the emulator): RMS and largest difference over both axes [deg] and the rows compared. Throws
-// std::runtime_error for logs of different lengths or without the angle columns.
-struct AngleDifference {
-  double rms_deg = 0.0, max_deg = 0.0;
-  std::size_t rows = 0;
-};
-AngleDifference measured_angle_difference(const std::filesystem::path& log_a, const std::filesystem::path& log_b);
-
 class AvrBoard final : public bridge::LineDevice {
  public:
   // Loads `firmware` (an ELF for the ATmega328P) and builds the plant from `plant` (the emulator's config). Throws
