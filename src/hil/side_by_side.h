@@ -20,8 +20,8 @@ struct AngleDifference {
 AngleDifference measured_angle_difference(const std::filesystem::path& log_a, const std::filesystem::path& log_b);
 
 struct SideBySide {
-  BoardStats board;             // the board's, after its run
-  double firmware_wall_s = 0.0;  // host time of the run through the firmware
+  BoardStats board;                                  // the board's, after its run
+  double firmware_wall_s = 0.0;                      // host time of the run through the firmware
   std::filesystem::path firmware_dir, emulator_dir;  // DIR/hil and DIR/emulator: each run's trial log and summary
   AngleDifference angles;
 };
