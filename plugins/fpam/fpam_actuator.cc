@@ -18,7 +18,11 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
 
 double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) const {
   if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa)) return 0.0;
-  return (std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa) - regulated_kpa) / config_.time_constant;
+  const double error_kpa = std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa) - regulated_kpa;
+  // First order, with the venting time constant while the pressure falls where it has one (sim::Regulator).
+  const double tau =
+      error_kpa < 0.0 && config_.vent_time_constant > 0.0 ? config_.vent_time_constant : config_.time_constant;
+  return error_kpa / tau;
 }
 
 double FpamActuator::Force(double tendon_length, double regulated_kpa, double branch) const {

@@ -169,6 +169,12 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
                      result.time_constant <= physics::plausible::kMaxTimeConstant)) {
     read.Fail(kTimeConstant, "must lie in [0.001, 100] (s; MuJoCo integrates the regulator in 1 ms steps)");
   }
+  result.vent_time_constant = read.Number(kVentTimeConstant, 0.0);
+  if (read.ok() && result.vent_time_constant != 0.0 &&
+      !(result.vent_time_constant >= physics::plausible::kMinTimeConstant &&
+        result.vent_time_constant <= physics::plausible::kMaxTimeConstant)) {
+    read.Fail(kVentTimeConstant, "must be 0 (as time_constant) or lie in [0.001, 100] (s)");
+  }
   result.hysteresis.fraction = read.Number(kHysteresis, 0.0);
   if (read.ok() && !(result.hysteresis.fraction >= 0.0 && result.hysteresis.fraction < 0.5))
     read.Fail(kHysteresis, "must be >= 0 and < 0.5");
@@ -201,6 +207,7 @@ std::string FpamConfig::ToText() const {
                         law.mount_stiffness.hand);
   }
   text += fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, time_constant);
+  if (vent_time_constant > 0.0) text += fmt::format(" {}={:.10g}", kVentTimeConstant, vent_time_constant);
   if (hysteresis.active()) {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction, kHysteresisLength,
                         hysteresis.transition_length);

@@ -34,12 +34,13 @@ struct FpamConfig {
   static constexpr std::string_view kHandStiffness = "K2";                     // [N/m^2], |K2| used
   static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";      // default 137
   static constexpr std::string_view kTimeConstant = "time_constant";           // regulator [s], default 0.1
+  static constexpr std::string_view kVentTimeConstant = "vent_time_constant";  // while venting [s], default 0 (same)
   static constexpr std::string_view kHysteresis = "hysteresis";                // h, default 0 (none)
   static constexpr std::string_view kHysteresisLength = "hysteresis_length";   // l_h [m], default 0.002
-  static constexpr std::array<std::string_view, 16> kAttributes = {
-      kRestLength,     kRadius,       kMaxContraction, kTablePressureKpa, kTableRadius,      kTableMaxContraction,
-      kElasticModulus, kThickness,    kElasticOnset,   kStretch,          kForearmStiffness, kHandStiffness,
-      kMaxPressureKpa, kTimeConstant, kHysteresis,     kHysteresisLength};
+  static constexpr std::array<std::string_view, 17> kAttributes = {
+      kRestLength,     kRadius,       kMaxContraction,   kTablePressureKpa, kTableRadius,      kTableMaxContraction,
+      kElasticModulus, kThickness,    kElasticOnset,     kStretch,          kForearmStiffness, kHandStiffness,
+      kMaxPressureKpa, kTimeConstant, kVentTimeConstant, kHysteresis,       kHysteresisLength};
 
   // A muscle with hysteresis (physics/fpam_hysteresis.h) has a second state, its branch s. MuJoCo 3 would give the
   // plugin two activations; MuJoCo 2.2.2 gives an actuator one, so the state is the activation of a companion
@@ -51,6 +52,7 @@ struct FpamConfig {
   physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
   double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;
   double time_constant = 0.1;          // [s]
+  double vent_time_constant = 0.0;     // [s] while the pressure falls; 0: time_constant (sim::Regulator)
   physics::FpamHysteresis hysteresis;  // none by default: the paper's static law
 
   // Reads and validates a configuration. On error returns nullopt and sets *error to "actuator 'NAME': attribute

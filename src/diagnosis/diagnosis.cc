@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/parallel_for.h"
+#include "diagnosis/beyond_tolerance.h"
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
@@ -145,6 +146,18 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseMode
 // Held-out units below which a bootstrap interval of the shrink is not asked for.
 constexpr std::size_t kMinBootstrapUnits = 5;
 
+// Beyond the tolerances, a second effect is looked for where the first closes less than this share of the gap.
+constexpr double kSecondBelow = 0.9;
+
+// Whether a bootstrap interval of the shrink says anything: not when the trials with a gap hold few held-out units
+// (a tensile test alone holds out two pressure levels, and resampling two units gives three possible data sets).
+bool interval_informative(const GapProblem& problem) {
+  std::size_t units = 0;
+  const auto heldout_units = problem.heldout_units();
+  for (std::size_t t = 0; t < problem.size(); ++t) units += problem.scored(t) ? heldout_units[t].size() : 0;
+  return units >= kMinBootstrapUnits;
+}
+
 struct Combination {
   std::vector<EffectFit> effects;  // in the order they joined
   ModelVariant model;
@@ -157,14 +170,9 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
                              const ModelVariant& nominal, const Predictions& nominal_training,
                              const Predictions& nominal_full, const sim::DeviceDescription& nominal_device,
                              const DiagnosisOptions& options) {
-  // The bootstrap's interval says little when the trials with a gap hold few held-out units (a tensile test alone
-  // holds out two pressure levels, and resampling two units gives three possible data sets): then the cut alone.
-  std::size_t units = 0;
-  const auto heldout_units = problem.heldout_units();
-  for (std::size_t t = 0; t < problem.size(); ++t) units += problem.scored(t) ? heldout_units[t].size() : 0;
-  const bool interval_informative = units >= kMinBootstrapUnits;
+  const bool informative = interval_informative(problem);  // otherwise the cut alone
   const auto helps = [&](const EffectFit& f) {
-    return f.applicable && f.shrink_fraction >= options.min_gain && (f.ci_low > 0.0 || !interval_informative);
+    return f.applicable && f.shrink_fraction >= options.min_gain && (f.ci_low > 0.0 || !informative);
   };
   Combination c{.effects = {}, .model = nominal, .full = nominal_full};
   Predictions current_training = nominal_training;
@@ -238,30 +246,54 @@ void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVaria
   d.explained_fraction = before > 0.0 ? (before - after) / before : 0.0;
 }
 
-// Where the leading effect alone falls short of the verdict's share and the nominal was fitted within its
-// tolerances: the effect fitted jointly with them, and what it closes of the gap they leave (Diagnosis::
-// beyond_tolerance).
-void measure_beyond_tolerance(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
-                              const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
-  if (d.combination.empty() || d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
-  const EffectFit& leading = d.combination.front();
-  const EffectSpec& spec = effect_spec(leading.id);
-  std::vector<bool> acted_on;
-  for (const auto& t : d.trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
-  if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
-  const JointFit joint =
-      fit_effect_within_tolerances(problem, nominal, options, d.tolerance, leading.id, leading.values);
-  Diagnosis::BeyondTolerance b{.effect = leading.name,
-                               .params = describe_values(leading.id, joint.values, nominal_device),
-                               .evaluations = joint.evaluations};
-  b.heldout_error_within =
-      problem.heldout_error(problem.heldout_sums(problem.evaluate(*d.tolerance.variant, false)), nullptr, &acted_on);
-  b.heldout_error_with_effect =
-      problem.heldout_error(problem.heldout_sums(problem.evaluate(joint.variant, false)), nullptr, &acted_on);
-  b.explained_fraction = b.heldout_error_within > 0.0
-                             ? (b.heldout_error_within - b.heldout_error_with_effect) / b.heldout_error_within
-                             : 0.0;
-  d.beyond_tolerance = std::move(b);
+// Whether the second effect beyond the tolerances cuts what the first leaves by min_gain, its interval above zero.
+bool second_adds(const Diagnosis& d, const DiagnosisOptions& options) {
+  const auto& second = d.beyond_tolerance_second;
+  if (!second || d.beyond_tolerance.empty()) return false;
+  const double left = d.beyond_tolerance.front().heldout_error_with_effect;
+  return left > 0.0 && (left - second->heldout_error_with_effect) / left >= options.min_gain &&
+         (second->ci_low > 0.0 || !d.interval_informative);
+}
+
+// The model the diagnosis hands on (Diagnosis::corrected): beyond the tolerances, the first effect with the nominal
+// within them (and the second where it adds); otherwise the greedy combination from the nominal as placed.
+const ModelVariant* beyond_tolerance_model(const Diagnosis& d, const DiagnosisOptions& options) {
+  if (d.beyond_tolerance.empty()) return nullptr;
+  return second_adds(d, options) ? &*d.beyond_tolerance_second->variant : &*d.beyond_tolerance.front().variant;
+}
+
+// An effect fitted beyond the tolerances as an EffectFit: its held-out error before (`before`: the nominal within its
+// tolerances, or the first effect's model for the second) and after, and its cut of it.
+EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
+  EffectFit f{.id = b.id, .name = b.effect, .values = b.values, .params = b.params};
+  f.train_error_before = b.train_error_within;
+  f.train_error_after = b.train_error_with_effect;
+  f.heldout_error_before = before;
+  f.heldout_error_after = b.heldout_error_with_effect;
+  f.shrink_fraction = before > 0.0 ? (before - b.heldout_error_with_effect) / before : 0.0;
+  f.score = f.shrink_fraction;
+  f.ci_low = b.ci_low;
+  f.ci_high = b.ci_high;
+  f.evaluations = b.evaluations;
+  return f;
+}
+
+// With tolerances and a gap beyond them: each effect fitted on top of them, and a second where the first leaves a
+// share of the gap (beyond_tolerance.h). False when none of the effects asked for acts on these data.
+bool attribute_beyond_tolerances(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+                                 const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+  d.beyond_tolerance = rank_beyond_tolerances(problem, nominal, nominal_device, d.tolerance, d.trials, options);
+  if (d.beyond_tolerance.empty()) return false;
+  if (d.beyond_tolerance.front().explained_fraction < kSecondBelow)
+    d.beyond_tolerance_second =
+        second_beyond_tolerances(problem, nominal_device, d.tolerance, d.trials, d.beyond_tolerance, options);
+  // The effects and the combination as the report and the command line list them.
+  for (const auto& b : d.beyond_tolerance) d.effects.push_back(as_effect_fit(b, b.heldout_error_within));
+  d.combination.push_back(d.effects.front());
+  if (second_adds(d, options))
+    d.combination.push_back(
+        as_effect_fit(*d.beyond_tolerance_second, d.beyond_tolerance.front().heldout_error_with_effect));
+  return true;
 }
 
 // The trials that still differ beyond their noise with the corrected model, for the reason.
@@ -291,6 +323,75 @@ std::string tolerance_note(const Diagnosis& d) {
                      fmt::join(values, ", "));
 }
 
+// The verdict from the effects fitted on the nominal as placed (no tolerances): the combination's leading effect when
+// it closes explained_fraction of the held-out gap alone, or pair_share of it in a combination that closes
+// explained_fraction.
+void decide_as_placed(Diagnosis& d, const DiagnosisOptions& options) {
+  if (!d.combination.empty() && d.explained_fraction >= options.explained_fraction) {
+    d.verdict = d.leading_effect;
+    d.reason = fmt::format("{} explains {:.0f} % of the held-out gap on its own ({:.0f} % with the combination); {}",
+                           d.leading_effect, 100.0 * d.explained_fraction, 100.0 * d.gap_closed(), remaining_gaps(d));
+  } else if (d.combination.size() >= 2 && d.gap_closed() >= options.explained_fraction &&
+             d.explained_fraction >= options.pair_share) {
+    d.verdict = d.leading_effect;
+    std::vector<std::string> others;
+    for (std::size_t i = 1; i < d.combination.size(); ++i) others.push_back(d.combination[i].name);
+    d.also_effects = others;
+    d.reason = fmt::format(
+        "{} and {} together explain {:.0f} % of the held-out gap; {} alone explains {:.0f} %, the largest share; {}",
+        d.leading_effect, fmt::join(others, " and "), 100.0 * d.gap_closed(), d.leading_effect,
+        100.0 * d.explained_fraction, remaining_gaps(d));
+  } else {
+    d.verdict = "unexplained";
+    d.reason = d.combination.empty()
+                   ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
+                   : fmt::format("the gap is significant; {} explains {:.0f} % of it, the rest is unexplained; {}",
+                                 d.leading_effect, 100.0 * d.explained_fraction, remaining_gaps(d));
+  }
+}
+
+// The verdict beyond the tolerances: the effect that leaves the least training error (the selection), named when it
+// closes explained_fraction of the held-out gap beyond the tolerances in the gap trials of the kinds it acts on, its
+// bootstrap interval above zero; or, with a second effect that brings the pair to explained_fraction of the gap, when
+// it closes pair_share alone. The held-out part is the report, not the selection.
+void decide_beyond_tolerances(Diagnosis& d, const DiagnosisOptions& options) {
+  const Diagnosis::BeyondTolerance& lead = d.beyond_tolerance.front();
+  d.leading_effect = lead.effect;
+  d.explained_fraction = lead.explained_in_acted_on;
+  const bool lead_helps = lead.explained_fraction >= options.min_gain && (lead.ci_low > 0.0 || !d.interval_informative);
+  const auto& second = d.beyond_tolerance_second;
+  const bool with_second = second_adds(d, options);
+  const std::string interval = d.interval_informative ? fmt::format(", 95 % interval {:.0f} to {:.0f} %",
+                                                                    100.0 * lead.ci_low, 100.0 * lead.ci_high)
+                                                      : "";
+  if (lead_helps && lead.explained_in_acted_on >= options.explained_fraction) {
+    d.verdict = lead.effect;
+    if (with_second) d.also_effects = {second->effect};
+    d.reason = fmt::format(
+        "{} explains {:.0f} % of the held-out gap the nominal's tolerances leave, in the trials it acts on ({:.0f} % "
+        "over every trial with a gap{}){}{}; {}",
+        lead.effect, 100.0 * lead.explained_in_acted_on, 100.0 * lead.explained_fraction, interval,
+        with_second ? fmt::format("; with {} {:.0f} %", second->effect, 100.0 * second->explained_fraction) : "",
+        tolerance_note(d), remaining_gaps(d));
+  } else if (lead_helps && with_second && lead.explained_in_acted_on >= options.pair_share &&
+             second->explained_fraction >= options.explained_fraction) {
+    d.verdict = lead.effect;
+    d.also_effects = {second->effect};
+    d.reason = fmt::format(
+        "{} and {} together explain {:.0f} % of the held-out gap the nominal's tolerances leave; {} alone explains "
+        "{:.0f} % in the trials it acts on, the larger share{}; {}",
+        lead.effect, second->effect, 100.0 * second->explained_fraction, lead.effect,
+        100.0 * lead.explained_in_acted_on, tolerance_note(d), remaining_gaps(d));
+  } else {
+    d.verdict = "unexplained";
+    d.reason = fmt::format(
+        "the gap beyond the nominal's tolerances is significant; {}, the best fit, explains {:.0f} % of it in the "
+        "trials it acts on ({:.0f} % over every trial with a gap{}), the rest is unexplained{}; {}",
+        lead.effect, 100.0 * lead.explained_in_acted_on, 100.0 * lead.explained_fraction, interval, tolerance_note(d),
+        remaining_gaps(d));
+  }
+}
+
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   const bool any_significant =
       std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
@@ -315,33 +416,10 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
         "the largest systematic residual of a trial is {:.2f} of its noise ({}; below {}): detectable in this much "
         "data, but within the noise of a measurement",
         largest->excess_nominal, largest->experiment, options.min_gap);
-  } else if (!d.combination.empty() && d.explained_fraction >= options.explained_fraction) {
-    d.verdict = d.leading_effect;
-    d.reason = fmt::format("{} explains {:.0f} % of the held-out gap on its own ({:.0f} % with the combination); {}",
-                           d.leading_effect, 100.0 * d.explained_fraction, 100.0 * d.gap_closed(), remaining_gaps(d));
-  } else if (d.beyond_tolerance && d.beyond_tolerance->explained_fraction >= options.explained_fraction) {
-    d.verdict = d.leading_effect;
-    d.reason = fmt::format(
-        "{} explains {:.0f} % of the held-out gap beyond the nominal's tolerances when fitted with them ({:.0f} % "
-        "fitted from the nominal as placed){}; {}",
-        d.leading_effect, 100.0 * d.beyond_tolerance->explained_fraction, 100.0 * d.explained_fraction,
-        tolerance_note(d), remaining_gaps(d));
-  } else if (d.combination.size() >= 2 && d.gap_closed() >= options.explained_fraction &&
-             d.explained_fraction >= options.pair_share) {
-    d.verdict = d.leading_effect;
-    std::vector<std::string> others;
-    for (std::size_t i = 1; i < d.combination.size(); ++i) others.push_back(d.combination[i].name);
-    d.also_effects = others;
-    d.reason = fmt::format(
-        "{} and {} together explain {:.0f} % of the held-out gap; {} alone explains {:.0f} %, the largest share; {}",
-        d.leading_effect, fmt::join(others, " and "), 100.0 * d.gap_closed(), d.leading_effect,
-        100.0 * d.explained_fraction, remaining_gaps(d));
+  } else if (!d.beyond_tolerance.empty()) {
+    decide_beyond_tolerances(d, options);
   } else {
-    d.verdict = "unexplained";
-    d.reason = d.combination.empty()
-                   ? "the gap is significant and no catalogue effect reduces the held-out error meaningfully"
-                   : fmt::format("the gap is significant; {} explains {:.0f} % of it, the rest is unexplained; {}",
-                                 d.leading_effect, 100.0 * d.explained_fraction, remaining_gaps(d));
+    decide_as_placed(d, options);
   }
 }
 
@@ -367,25 +445,33 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha, options.min_gap);
   check_within_tolerances(d, problem, nominal, trial_alpha, options);
 
-  // Attribute: each effect alone, then the greedy combination, scored over the trials with a gap beyond the
-  // tolerances (a gap the nominal explains within them is no effect's to close); measure the corrected model; decide.
+  // Attribute, scored over the trials with a gap beyond the tolerances (a gap the nominal explains within them is no
+  // effect's to close): beyond the tolerances where they were fitted and leave a gap; otherwise each effect alone
+  // from the nominal as placed, then the greedy combination. Measure the corrected model; decide.
   std::vector<bool> gap_trials;
   for (const auto& t : d.trials) gap_trials.push_back(t.gap);
-  if (std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; })) problem.set_scored(gap_trials);
-  const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
-  d.effects = fit_each_effect(problem, reference, nominal_device, options);
-  Combination combination =
-      combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);
-  if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
-    combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
-    combination.full = problem.evaluate(combination.model, false);
+  const bool any_gap = std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; });
+  if (any_gap) problem.set_scored(gap_trials);
+  d.interval_informative = interval_informative(problem);
+  if (any_gap && !d.tolerance.params.empty() &&
+      attribute_beyond_tolerances(d, problem, nominal, nominal_device, options)) {
+    d.corrected.emplace(*beyond_tolerance_model(d, options));
+    d.corrected_predictions = problem.evaluate(*d.corrected, false);
+  } else {
+    const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
+    d.effects = fit_each_effect(problem, reference, nominal_device, options);
+    Combination combination =
+        combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);
+    if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
+      combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
+      combination.full = problem.evaluate(combination.model, false);
+    }
+    d.combination = std::move(combination.effects);
+    d.corrected.emplace(std::move(combination.model));
+    d.corrected_predictions = std::move(combination.full);
+    measure_explained(d, problem, nominal, nominal_full);
   }
-  d.combination = std::move(combination.effects);
-  d.corrected.emplace(combination.model);
-  d.corrected_predictions = combination.full;
-  measure_correction(d, problem, nominal_full, combination.full, trial_alpha);
-  measure_explained(d, problem, nominal, nominal_full);
-  measure_beyond_tolerance(d, problem, nominal, nominal_device, options);
+  measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   decide_verdict(d, options);
   return d;
 }

@@ -59,6 +59,9 @@ struct DiagnosisOptions {
   // After the greedy combination, refit all its parameters together (joint_refit.h) with this budget of replays; 0:
   // not (the diagnosis names causes, for which the greedy values do; a calibration needs the values).
   int joint_refit_evaluations = 0;
+  // Beyond the tolerances (Diagnosis::beyond_tolerance): how many of the best effects are refitted jointly with every
+  // tolerance, each with tolerance_evaluations replays.
+  int beyond_joint_candidates = 2;
 };
 
 // The nominal within its tolerances: the values the free parameters took inside their boxes, and the model they give,
@@ -126,19 +129,31 @@ struct Diagnosis {
   double explained_fraction = 0.0;
   // When the verdict names the leading effect of a combination that closes the gap only together: the others.
   std::vector<std::string> also_effects;
-  // When the leading effect, fitted from the nominal as placed, explains less than the verdict needs while the nominal
-  // within its tolerances leaves a gap: the same effect fitted jointly with the tolerances, and the fraction of the
-  // gap beyond them that it closes (held out, in the gap trials of the kinds it acts on). A device differs from its
-  // placement file within its tolerances and has an effect besides; fitted from the file alone, the effect cannot
-  // close the part that is the tolerances'.
+  // Where the nominal within its tolerances leaves a gap: each effect fitted on top of it (beyond_tolerance.h), best
+  // first by the training error it leaves, and what it closes of the held-out gap beyond the tolerances. A device
+  // differs from its placement file within its tolerances and has an effect besides; fitted from the file alone, an
+  // effect competes with that scatter. With tolerances, the verdict is decided here.
   struct BeyondTolerance {
+    EffectId id{};
     std::string effect;
+    std::vector<double> values;  // in its spec's units
     std::vector<std::pair<std::string, double>> params;
-    double heldout_error_within = 0.0, heldout_error_with_effect = 0.0;
-    double explained_fraction = 0.0;
+    double train_error_within = 0.0, train_error_with_effect = 0.0;      // all trials: the ranking's
+    double heldout_error_within = 0.0, heldout_error_with_effect = 0.0;  // the gap trials
+    double explained_fraction = 0.0;     // of the held-out gap beyond the tolerances, over all gap trials
+    double explained_in_acted_on = 0.0;  // the same over the gap trials of the kinds it acts on
+    double ci_low = 0.0, ci_high = 0.0;  // bootstrap 95 % interval of explained_fraction
+    bool joint = false;                  // refitted jointly with every tolerance
     int evaluations = 0;
+    std::optional<ModelVariant> variant;  // the model it gives
   };
-  std::optional<BeyondTolerance> beyond_tolerance;
+  std::vector<BeyondTolerance> beyond_tolerance;
+  // A second effect on top of the first, where the first leaves a gap: its explained_fraction is the pair's, its
+  // interval that of the cut it makes in what the first leaves.
+  std::optional<BeyondTolerance> beyond_tolerance_second;
+  // Whether the gap trials hold enough held-out units for a bootstrap interval to say anything (a tensile test alone
+  // holds out two pressure levels): where not, an effect's cut is weighed without its interval.
+  bool interval_informative = true;
   std::vector<TrialGap> trials;
   ToleranceFit tolerance;  // the nominal within its tolerances: what decides which trials have a gap
   std::vector<LocalizationEntry> localization;

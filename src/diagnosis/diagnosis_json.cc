@@ -27,15 +27,21 @@ nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
           {"evaluations", tolerance.evaluations}};
 }
 
-// The leading effect fitted jointly with the tolerances, and what it closes beyond them.
+// An effect fitted beyond the tolerances, and what it closes of the gap they leave.
 nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b) {
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [name, value] : b.params) params[name] = value;
   return {{"effect", b.effect},
           {"params", params},
+          {"joint_with_tolerances", b.joint},
+          {"train_error_within", b.train_error_within},
+          {"train_error_with_effect", b.train_error_with_effect},
           {"heldout_error_within", b.heldout_error_within},
           {"heldout_error_with_effect", b.heldout_error_with_effect},
           {"explained_fraction", b.explained_fraction},
+          {"explained_in_acted_on", b.explained_in_acted_on},
+          {"ci_low", b.ci_low},
+          {"ci_high", b.ci_high},
           {"evaluations", b.evaluations}};
 }
 
@@ -74,7 +80,11 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
   j["also_effects"] = d.also_effects;
-  if (d.beyond_tolerance) j["beyond_tolerance"] = beyond_tolerance_json(*d.beyond_tolerance);
+  if (!d.beyond_tolerance.empty()) {
+    j["beyond_tolerance"] = nlohmann::json::array();
+    for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b));
+  }
+  if (d.beyond_tolerance_second) j["beyond_tolerance_second"] = beyond_tolerance_json(*d.beyond_tolerance_second);
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));

@@ -30,8 +30,11 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
       {EffectId::kRegulatorLag,
        "regulator_lag",
-       "the regulators follow the command with another first-order time constant and a dead time",
-       {{"time_constant_s", 0.01, 1.0, true, NAN}, {"dead_time_s", 0.0, 0.3, false, 0.0}},
+       "the regulators follow the command with another first-order time constant, venting that many times slower "
+       "or faster than they fill (sim::Regulator), and a dead time",
+       {{"time_constant_s", 0.01, 1.0, true, NAN},
+        {"dead_time_s", 0.0, 0.3, false, 0.0},
+        {"vent_ratio", 0.25, 8.0, true, 1.0}},
        {K::kTrajectory}},
       {EffectId::kHysteresis,
        "hysteresis",
@@ -138,6 +141,7 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
     }
     case EffectId::kRegulatorLag:
       device.regulator.time_constant = values[0];
+      device.regulator.vent_time_constant = values[2] == 1.0 ? 0.0 : values[0] * values[2];
       break;
     case EffectId::kWrapGeometry:
       for (std::size_t i = 0; i < device.muscles.size(); ++i) {
@@ -182,7 +186,11 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
     start.push_back(std::isnan(p.neutral) ? (p.log_scale ? std::sqrt(p.lower * p.upper) : 0.5 * (p.lower + p.upper))
                                           : p.neutral);
   }
-  if (id == EffectId::kRegulatorLag) start[0] = nominal.regulator.time_constant;
+  if (id == EffectId::kRegulatorLag) {
+    start[0] = nominal.regulator.time_constant;
+    if (nominal.regulator.vent_time_constant > 0.0)
+      start[2] = nominal.regulator.vent_time_constant / nominal.regulator.time_constant;
+  }
   if (id == EffectId::kMountStretch && nominal.stretch_mode != physics::StretchMode::kNone) {
     const double c = 1.0 / std::sqrt(std::abs(nominal.mount_stiffness.forearm)) +
                      1.0 / std::sqrt(std::abs(nominal.mount_stiffness.hand));

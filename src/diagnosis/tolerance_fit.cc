@@ -293,6 +293,15 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
   return fit;
 }
 
+ModelVariant within_tolerances_without(const GapProblem& problem, const ModelVariant& nominal,
+                                       const DiagnosisOptions& options, const ToleranceFit& within, EffectId id) {
+  const Setup setup = setup_of(problem, nominal, options.tolerances);
+  if (setup.knobs.size() != within.params.size()) throw std::logic_error("the tolerance fit is not of these data");
+  std::vector<double> x;
+  for (const auto& [name, value] : within.params) x.push_back(value);
+  return setup.variant_at(nominal, x, id);
+}
+
 JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
                                       const DiagnosisOptions& options, const ToleranceFit& within, EffectId id,
                                       std::span<const double> start) {

@@ -16,6 +16,11 @@ namespace softwrist::diagnosis {
 ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
                                    const DiagnosisOptions& options);
 
+// The nominal within its tolerances where their fit `within` ended, with effect `id`'s own tolerance parameters back
+// at the nominal: the base an effect is fitted on beyond the tolerances (it then takes its whole value).
+ModelVariant within_tolerances_without(const GapProblem& problem, const ModelVariant& nominal,
+                                       const DiagnosisOptions& options, const ToleranceFit& within, EffectId id);
+
 // Effect `id` on top of the nominal within its tolerances, fitted jointly with them by the same least squares, from
 // where the tolerance fit `within` ended and from `start` (the effect's values fitted from the nominal as placed).
 // The effect's own tolerance parameters stay at the nominal: it takes its whole value, and its values are not shared

@@ -160,6 +160,12 @@ void read_regulator(Reader r, Regulator& regulator) {
       regulator.time_constant > physics::plausible::kMaxTimeConstant) {
     r.fail("time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
   }
+  regulator.vent_time_constant = r.positive("vent_time_constant_s", regulator.time_constant);
+  if (regulator.vent_time_constant < physics::plausible::kMinTimeConstant ||
+      regulator.vent_time_constant > physics::plausible::kMaxTimeConstant) {
+    r.fail("vent_time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
+  }
+  if (regulator.vent_time_constant == regulator.time_constant) regulator.vent_time_constant = 0.0;
   r.finish();
 }
 
@@ -196,6 +202,14 @@ void read_hand(Reader h, Hand& hand) {
   hand.radius_of_gyration = cm_to_m(h.positive("radius_of_gyration_cm", m_to_cm(hand.radius_of_gyration)));
   hand.length = cm_to_m(h.positive("length_cm", m_to_cm(hand.length)));
   h.finish();
+}
+
+// The regulator's entry of a placement file; the venting time constant only where it differs.
+nlohmann::json regulator_json(const Regulator& regulator) {
+  nlohmann::json j = {{"max_pressure_kpa", units::pa_to_kpa(regulator.max_pressure)},
+                      {"time_constant_s", regulator.time_constant}};
+  if (regulator.vent_time_constant > 0.0) j["vent_time_constant_s"] = regulator.vent_time_constant;
+  return j;
 }
 
 }  // namespace
@@ -251,9 +265,7 @@ std::string device_to_json(const DeviceDescription& device) {
        {{"mode", physics::to_string(device.stretch_mode)},
         {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
         {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}}},
-      {"regulator",
-       {{"max_pressure_kpa", units::pa_to_kpa(device.regulator.max_pressure)},
-        {"time_constant_s", device.regulator.time_constant}}},
+      {"regulator", regulator_json(device.regulator)},
       {"wrist",
        {{"stiffness_fe_nm_per_rad", w.stiffness_fe},
         {"stiffness_ur_nm_per_rad", w.stiffness_ur},

@@ -63,6 +63,10 @@ struct Regulator {
   // The paper gives no regulator dynamics. 0.1 s is an assumed first-order time constant for a closed-loop
   // regulator filling a ~0.1 L fPAM through 6.35 mm tubing; the gap diagnosis's regulator_lag effect fits it.
   double time_constant = 0.1;  // [s]
+  // While venting, where it differs (0: time_constant). A regulator fills from the supply and vents through its
+  // exhaust, whose flow at low gauge pressure is subsonic and weaker (ISO 6358; Beater, Pneumatic Drives, 2007, ch. 3),
+  // so real ones often empty a muscle more slowly than they fill it; the diagnosis's regulator_lag fits the ratio.
+  double vent_time_constant = 0.0;  // [s]
 };
 
 struct DeviceDescription {

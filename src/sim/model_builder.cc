@@ -33,6 +33,7 @@ std::string plugin_config(const DeviceDescription& device, const MuscleMount& mo
   const plugin::FpamConfig config{.law = device.muscle_law(mount),
                                   .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
                                   .time_constant = device.regulator.time_constant,
+                                  .vent_time_constant = device.regulator.vent_time_constant,
                                   .hysteresis = device.hysteresis};
   return config.ToText();
 }

@@ -95,8 +95,10 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
   {
     SyntheticDevice real{.device = device};
     real.device.regulator.time_constant = 0.3;
+    real.device.regulator.vent_time_constant = 0.6;  // venting twice as slowly as filling (sim::Regulator)
     const auto d = run(real, device, {EffectId::kRegulatorLag});
     EXPECT_NEAR(param(fit_of(d, EffectId::kRegulatorLag), "time_constant_s"), 0.3, 0.03);  // 10 %
+    EXPECT_NEAR(param(fit_of(d, EffectId::kRegulatorLag), "vent_ratio"), 2.0, 0.2);
   }
   {
     SyntheticDevice real{.device = device, .imu_offset_fe_deg = 2.0, .imu_offset_ur_deg = -1.5, .imu_latency = 0.03};

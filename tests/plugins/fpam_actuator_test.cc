@@ -50,6 +50,27 @@ TEST(FpamActuator, RegulatorIsFirstOrderTowardsTheClampedCommand) {
   EXPECT_EQ(actuator->Force(0.25, std::nan("")), 0.0);
 }
 
+// A regulator that vents more slowly than it fills (sim::Regulator): the venting time constant only while the pressure
+// falls; without one, the same first order both ways.
+TEST(FpamActuator, RegulatorVentsWithItsOwnTimeConstant) {
+  std::string error;
+  const auto actuator =
+      create("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0.05 vent_time_constant=0.2", &error);
+  ASSERT_TRUE(actuator) << error;
+  EXPECT_DOUBLE_EQ(actuator->PressureRate(100.0, 20.0), 80.0 / 0.05);
+  EXPECT_DOUBLE_EQ(actuator->PressureRate(20.0, 100.0), -80.0 / 0.2);
+  EXPECT_EQ(actuator->PressureRate(50.0, 50.0), 0.0);
+  const auto config = PluginConfig::Parse(actuator->config().ToText(), &error);
+  ASSERT_TRUE(config) << error;
+  const auto again = FpamActuator::Create(*config, "flexor", &error);
+  ASSERT_TRUE(again) << error;
+  EXPECT_DOUBLE_EQ(again->PressureRate(20.0, 100.0), -80.0 / 0.2);
+  const auto symmetric = create("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0.05", &error);
+  ASSERT_TRUE(symmetric) << error;
+  EXPECT_DOUBLE_EQ(symmetric->PressureRate(20.0, 100.0), -80.0 / 0.05);
+  EXPECT_EQ(symmetric->config().ToText().find("vent_time_constant"), std::string::npos);
+}
+
 // A malformed configuration fails at load with a message naming the actuator and the attribute.
 TEST(FpamActuator, MalformedConfigurationsNameActuatorAndAttribute) {
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -64,6 +85,8 @@ TEST(FpamActuator, MalformedConfigurationsNameActuatorAndAttribute) {
       {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 colour=red", "attribute 'colour': unknown"},
       {"softwrist.fpam rest_length=0.3 table_pressure_kpa=0,34 table_r0=0.01 table_eps_max=0.2,0.3", "differ"},
       {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0", "attribute 'time_constant'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 vent_time_constant=-1", "'vent_time_constant'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 vent_time_constant=500", "'vent_time_constant'"},
       {"other.plugin rest_length=0.3", "is not softwrist.fpam"},
   };
   for (const auto& [text, expected] : cases) {

@@ -41,10 +41,16 @@ TEST(PlacementFile, RoundTrips) {
   d.fpam = physics::FpamParameters::Constant(0.0123, 0.28);
   d.stretch_mode = physics::StretchMode::kNone;
   d.regulator.time_constant = 0.05;
+  d.regulator.vent_time_constant = 0.15;
   d.wrist.limit_stiffening = {.torque = 1.5, .angle_scale = units::deg_to_rad(10.0)};
   const std::string text = device_to_json(d);
   EXPECT_EQ(device_to_json(parse_device(text, "x.json")), text);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").wrist.limit_stiffening.torque, 1.5);
+  EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.vent_time_constant, 0.15);
+  // A file without a venting time constant keeps none, and is written without one.
+  const std::string symmetric = device_to_json(paper_device());
+  EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
+  EXPECT_EQ(parse_device(symmetric, "x.json").regulator.vent_time_constant, 0.0);
 }
 
 // A malformed placement file is rejected with the file, the field and the problem.
@@ -69,6 +75,7 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
+      {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = 1e4; }), "regulator.vent_time_constant_s"},
       {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_nm"] = 50; }), "wrist.limit_stiffening_nm: must lie in [0, 20]"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_scale_deg"] = 1; }), "wrist.limit_stiffening_scale_deg"},
