@@ -146,9 +146,6 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseMode
 // Held-out units below which a bootstrap interval of the shrink is not asked for.
 constexpr std::size_t kMinBootstrapUnits = 5;
 
-// Beyond the tolerances, a second effect is looked for where the first closes less than this share of the gap.
-constexpr double kSecondBelow = 0.9;
-
 // Whether a bootstrap interval of the shrink says anything: not when the trials with a gap hold few held-out units
 // (a tensile test alone holds out two pressure levels, and resampling two units gives three possible data sets).
 bool interval_informative(const GapProblem& problem) {
@@ -278,15 +275,27 @@ EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
   return f;
 }
 
+// The trials that still have a gap (significant, and min_gap noise units) with `model`.
+std::vector<bool> gaps_left(const Diagnosis& d, const GapProblem& problem, const ModelVariant& model,
+                            double trial_alpha, const DiagnosisOptions& options) {
+  const std::vector<TrialGap> gaps = nominal_trial_gaps(
+      d.prepared, residuals_of_all(d.prepared, problem.evaluate(model, false)), trial_alpha, options.min_gap);
+  std::vector<bool> left;
+  for (const TrialGap& t : gaps) left.push_back(t.gap);
+  return left;
+}
+
 // With tolerances and a gap beyond them: each effect fitted on top of them, and a second where the first leaves a
-// share of the gap (beyond_tolerance.h). False when none of the effects asked for acts on these data.
+// trial with a gap (beyond_tolerance.h). False when none of the effects asked for acts on these data.
 bool attribute_beyond_tolerances(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
-                                 const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+                                 const sim::DeviceDescription& nominal_device, double trial_alpha,
+                                 const DiagnosisOptions& options) {
   d.beyond_tolerance = rank_beyond_tolerances(problem, nominal, nominal_device, d.tolerance, d.trials, options);
   if (d.beyond_tolerance.empty()) return false;
-  if (d.beyond_tolerance.front().explained_fraction < kSecondBelow)
+  const std::vector<bool> left = gaps_left(d, problem, *d.beyond_tolerance.front().variant, trial_alpha, options);
+  if (std::any_of(left.begin(), left.end(), [](bool g) { return g; }))
     d.beyond_tolerance_second =
-        second_beyond_tolerances(problem, nominal_device, d.tolerance, d.trials, d.beyond_tolerance, options);
+        second_beyond_tolerances(problem, nominal, nominal_device, d.tolerance, d.trials, d.beyond_tolerance, options);
   // The effects and the combination as the report and the command line list them.
   for (const auto& b : d.beyond_tolerance) d.effects.push_back(as_effect_fit(b, b.heldout_error_within));
   d.combination.push_back(d.effects.front());
@@ -454,7 +463,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   if (any_gap) problem.set_scored(gap_trials);
   d.interval_informative = interval_informative(problem);
   if (any_gap && !d.tolerance.params.empty() &&
-      attribute_beyond_tolerances(d, problem, nominal, nominal_device, options)) {
+      attribute_beyond_tolerances(d, problem, nominal, nominal_device, trial_alpha, options)) {
     d.corrected.emplace(*beyond_tolerance_model(d, options));
     d.corrected_predictions = problem.evaluate(*d.corrected, false);
   } else {

@@ -138,14 +138,17 @@ struct Diagnosis {
     std::string effect;
     std::vector<double> values;  // in its spec's units
     std::vector<std::pair<std::string, double>> params;
-    double train_error_within = 0.0, train_error_with_effect = 0.0;      // all trials: the ranking's
-    double heldout_error_within = 0.0, heldout_error_with_effect = 0.0;  // the gap trials
+    double train_error_within = 0.0, train_error_with_effect = 0.0;  // all trials: the ranking's
+    // Held out, over the gap trials: with the nominal within every tolerance but the effect's own (whose box is part of
+    // the effect's range; the second's: within every tolerance), and with the effect.
+    double heldout_error_within = 0.0, heldout_error_with_effect = 0.0;
     double explained_fraction = 0.0;     // of the held-out gap beyond the tolerances, over all gap trials
     double explained_in_acted_on = 0.0;  // the same over the gap trials of the kinds it acts on
     double ci_low = 0.0, ci_high = 0.0;  // bootstrap 95 % interval of explained_fraction
     bool joint = false;                  // refitted jointly with every tolerance
     int evaluations = 0;
     std::optional<ModelVariant> variant;  // the model it gives
+    std::vector<double> tolerances;       // where the tolerances' free parameters ended with it (empty: as fitted)
   };
   std::vector<BeyondTolerance> beyond_tolerance;
   // A second effect on top of the first, where the first leaves a gap: its explained_fraction is the pair's, its

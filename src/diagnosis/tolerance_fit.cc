@@ -222,9 +222,9 @@ struct Setup {
   std::vector<std::vector<double>> start;  // their values at the nominal
   std::vector<Knob> knobs;
 
-  // With `without`, that effect's own catalogue parameters stay at the nominal.
+  // The effects in `without` keep their own catalogue parameters at the nominal.
   ModelVariant variant_at(const ModelVariant& nominal, std::span<const double> x,
-                          std::optional<EffectId> without = std::nullopt) const {
+                          std::span<const EffectId> without = {}) const {
     ModelVariant v = nominal;
     std::vector<std::vector<double>> values = start;
     for (std::size_t k = 0; k < knobs.size(); ++k) {
@@ -235,7 +235,7 @@ struct Setup {
       }
     }
     for (std::size_t e = 0; e < ids.size(); ++e) {
-      if (ids[e] != without) apply_effect(ids[e], values[e], v);
+      if (std::find(without.begin(), without.end(), ids[e]) == without.end()) apply_effect(ids[e], values[e], v);
     }
     return v;
   }
@@ -294,32 +294,38 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
 }
 
 ModelVariant within_tolerances_without(const GapProblem& problem, const ModelVariant& nominal,
-                                       const DiagnosisOptions& options, const ToleranceFit& within, EffectId id) {
+                                       const DiagnosisOptions& options, const ToleranceFit& within,
+                                       std::span<const EffectId> ids, std::span<const double> tolerances) {
   const Setup setup = setup_of(problem, nominal, options.tolerances);
   if (setup.knobs.size() != within.params.size()) throw std::logic_error("the tolerance fit is not of these data");
-  std::vector<double> x;
-  for (const auto& [name, value] : within.params) x.push_back(value);
-  return setup.variant_at(nominal, x, id);
+  std::vector<double> x(tolerances.begin(), tolerances.end());
+  if (x.empty()) {
+    for (const auto& [name, value] : within.params) x.push_back(value);
+  }
+  if (x.size() != setup.knobs.size()) throw std::logic_error("tolerance values of other data");
+  return setup.variant_at(nominal, x, ids);
 }
 
 JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVariant& nominal,
                                       const DiagnosisOptions& options, const ToleranceFit& within, EffectId id,
-                                      std::span<const double> start) {
+                                      std::span<const double> start, std::span<const double> start_from_nominal) {
   const Setup setup = setup_of(problem, nominal, options.tolerances);
   if (setup.knobs.size() != within.params.size()) throw std::logic_error("the tolerance fit is not of these data");
   // The tolerances from where their fit ended (the effect's own at the nominal), then the effect's parameters in
-  // the unit interval of its catalogue range, from its fit from the nominal as placed.
+  // the unit interval of its catalogue range; or the tolerances at the nominal with `start_from_nominal`.
   const EffectSpec& spec = effect_spec(id);
-  std::vector<double> x0;
+  std::vector<double> x0, x0_nominal;
   optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
   for (std::size_t k = 0; k < setup.knobs.size(); ++k) {
     const Knob& knob = setup.knobs[k];
     const bool own = knob.kind == KnobKind::kCatalogue && setup.ids[knob.effect] == id;
     x0.push_back(own ? knob.nominal : within.params[k].second);
+    x0_nominal.push_back(knob.nominal);
     if (own) settings.lower[k] = settings.upper[k] = knob.nominal;  // held (bounds equal: not searched)
   }
   for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
     x0.push_back(spec.parameters[i].to_unit(start[i]));
+    if (!start_from_nominal.empty()) x0_nominal.push_back(spec.parameters[i].to_unit(start_from_nominal[i]));
     settings.lower.push_back(0.0);
     settings.upper.push_back(1.0);
     settings.cheap.push_back(false);
@@ -331,13 +337,27 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
     return values;
   };
   const auto model_at = [&](std::span<const double> x) {
-    ModelVariant v = setup.variant_at(nominal, x.first(n), id);
+    ModelVariant v = setup.variant_at(nominal, x.first(n), std::array{id});
     apply_effect(id, values_at(x), v);
     return v;
   };
-  const optimize::LeastSquaresResult found =
-      optimize::minimize_least_squares(residuals_of(problem, model_at), x0, settings);
-  return {.variant = model_at(found.x), .values = values_at(found.x), .evaluations = found.evaluations};
+  const optimize::ResidualFunction residuals = residuals_of(problem, model_at);
+  int evaluations = 0;
+  if (!start_from_nominal.empty()) {  // the start whose training error is lower
+    const auto cost = [&](const std::vector<double>& x) {
+      ++evaluations;
+      const auto r = residuals(x);
+      double c = 0.0;
+      for (double v : r.value_or(std::vector<double>{kInfeasible})) c += v * v;
+      return c;
+    };
+    if (cost(x0_nominal) < cost(x0)) x0 = x0_nominal;
+  }
+  const optimize::LeastSquaresResult found = optimize::minimize_least_squares(residuals, x0, settings);
+  return {.variant = model_at(found.x),
+          .values = values_at(found.x),
+          .tolerances = std::vector<double>(found.x.begin(), found.x.begin() + static_cast<std::ptrdiff_t>(n)),
+          .evaluations = evaluations + found.evaluations};
 }
 
 }  // namespace softwrist::diagnosis
