@@ -33,6 +33,7 @@ struct DiagnoseOptions {
   bool no_plots = false;
   std::string tolerances;  // a tolerance file
   bool no_tolerances = false;
+  bool rank_beyond_tolerances = false;
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -50,6 +51,7 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   }
   if (o.no_tolerances && !o.tolerances.empty()) throw UsageError("--tolerances and --no-tolerances exclude each other");
   if (o.no_tolerances) options.tolerances = diagnosis::Tolerances::none();
+  options.rank_beyond_tolerances = o.rank_beyond_tolerances;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
@@ -421,6 +423,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_option("--tolerances", d->tolerances,
                        "JSON file: how well the nominal placement is known (docs/diagnosis.md, Tolerances)");
   diagnose->add_flag("--no-tolerances", d->no_tolerances, "Measure the gap from the nominal exactly as placed");
+  diagnose->add_flag("--rank-beyond-tolerances", d->rank_beyond_tolerances,
+                     "Experimental: rank the effects fitted on top of the nominal within its tolerances, and decide "
+                     "there (docs/diagnosis.md)");
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 

@@ -243,6 +243,35 @@ void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVaria
   d.explained_fraction = before > 0.0 ? (before - after) / before : 0.0;
 }
 
+// Where the leading effect alone falls short of the verdict's share and the nominal was fitted within its
+// tolerances: the effect fitted jointly with them, and what it closes of the gap they leave in the gap trials of the
+// kinds it acts on (Diagnosis::leader_beyond_tolerance).
+void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+                                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+  if (d.combination.empty() || d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
+  const EffectFit& leading = d.combination.front();
+  const EffectSpec& spec = effect_spec(leading.id);
+  std::vector<bool> acted_on;
+  for (const auto& t : d.trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
+  const JointFit joint =
+      fit_effect_within_tolerances(problem, nominal, options, d.tolerance, leading.id, leading.values);
+  Diagnosis::BeyondTolerance b{.id = leading.id,
+                               .effect = leading.name,
+                               .values = joint.values,
+                               .params = describe_values(leading.id, joint.values, nominal_device),
+                               .joint = true,
+                               .evaluations = joint.evaluations};
+  b.heldout_error_within =
+      problem.heldout_error(problem.heldout_sums(problem.evaluate(*d.tolerance.variant, false)), nullptr, &acted_on);
+  b.heldout_error_with_effect =
+      problem.heldout_error(problem.heldout_sums(problem.evaluate(joint.variant, false)), nullptr, &acted_on);
+  b.explained_fraction = b.explained_in_acted_on =
+      b.heldout_error_within > 0.0 ? (b.heldout_error_within - b.heldout_error_with_effect) / b.heldout_error_within
+                                   : 0.0;
+  d.leader_beyond_tolerance = std::move(b);
+}
+
 // Whether the second effect beyond the tolerances cuts what the first leaves by min_gain, its interval above zero.
 bool second_adds(const Diagnosis& d, const DiagnosisOptions& options) {
   const auto& second = d.beyond_tolerance_second;
@@ -332,14 +361,22 @@ std::string tolerance_note(const Diagnosis& d) {
                      fmt::join(values, ", "));
 }
 
-// The verdict from the effects fitted on the nominal as placed (no tolerances): the combination's leading effect when
-// it closes explained_fraction of the held-out gap alone, or pair_share of it in a combination that closes
-// explained_fraction.
+// The verdict from the effects fitted on the nominal as placed: the combination's leading effect when it closes
+// explained_fraction of the held-out gap alone, or of the gap beyond the tolerances when fitted jointly with them; or
+// pair_share of it in a combination that closes explained_fraction.
 void decide_as_placed(Diagnosis& d, const DiagnosisOptions& options) {
+  const auto& beyond = d.leader_beyond_tolerance;
   if (!d.combination.empty() && d.explained_fraction >= options.explained_fraction) {
     d.verdict = d.leading_effect;
     d.reason = fmt::format("{} explains {:.0f} % of the held-out gap on its own ({:.0f} % with the combination); {}",
                            d.leading_effect, 100.0 * d.explained_fraction, 100.0 * d.gap_closed(), remaining_gaps(d));
+  } else if (beyond && beyond->explained_fraction >= options.explained_fraction) {
+    d.verdict = d.leading_effect;
+    d.reason = fmt::format(
+        "{} explains {:.0f} % of the held-out gap beyond the nominal's tolerances when fitted with them ({:.0f} % "
+        "fitted from the nominal as placed){}; {}",
+        d.leading_effect, 100.0 * beyond->explained_fraction, 100.0 * d.explained_fraction, tolerance_note(d),
+        remaining_gaps(d));
   } else if (d.combination.size() >= 2 && d.gap_closed() >= options.explained_fraction &&
              d.explained_fraction >= options.pair_share) {
     d.verdict = d.leading_effect;
@@ -462,7 +499,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   const bool any_gap = std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; });
   if (any_gap) problem.set_scored(gap_trials);
   d.interval_informative = interval_informative(problem);
-  if (any_gap && !d.tolerance.params.empty() &&
+  if (any_gap && !d.tolerance.params.empty() && options.rank_beyond_tolerances &&
       attribute_beyond_tolerances(d, problem, nominal, nominal_device, trial_alpha, options)) {
     d.corrected.emplace(*beyond_tolerance_model(d, options));
     d.corrected_predictions = problem.evaluate(*d.corrected, false);
@@ -479,6 +516,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     d.corrected.emplace(std::move(combination.model));
     d.corrected_predictions = std::move(combination.full);
     measure_explained(d, problem, nominal, nominal_full);
+    measure_leader_beyond_tolerance(d, problem, nominal, nominal_device, options);
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   decide_verdict(d, options);

@@ -85,6 +85,7 @@ nlohmann::json to_json(const Diagnosis& d) {
     for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b));
   }
   if (d.beyond_tolerance_second) j["beyond_tolerance_second"] = beyond_tolerance_json(*d.beyond_tolerance_second);
+  if (d.leader_beyond_tolerance) j["leader_beyond_tolerance"] = beyond_tolerance_json(*d.leader_beyond_tolerance);
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
