@@ -51,6 +51,8 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   }
   if (o.no_tolerances && !o.tolerances.empty()) throw UsageError("--tolerances and --no-tolerances exclude each other");
   if (o.no_tolerances) options.tolerances = diagnosis::Tolerances::none();
+  if (o.no_tolerances && o.rank_beyond_tolerances)
+    throw UsageError("--rank-beyond-tolerances needs the tolerances; it excludes --no-tolerances");
   options.rank_beyond_tolerances = o.rank_beyond_tolerances;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   const sim::DeviceDescription nominal = sim::load_device(o.model);

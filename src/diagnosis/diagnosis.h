@@ -59,10 +59,10 @@ struct DiagnosisOptions {
   // After the greedy combination, refit all its parameters together (joint_refit.h) with this budget of replays; 0:
   // not (the diagnosis names causes, for which the greedy values do; a calibration needs the values).
   int joint_refit_evaluations = 0;
-  // Experimental, off by default (docs/diagnosis.md, "Beyond the tolerances"): where the tolerances leave a gap, rank
-  // every effect fitted on top of them and decide the verdict there (Diagnosis::beyond_tolerance), instead of from the
-  // effects fitted from the nominal as placed. It names a regulator that vents slowly and an fPAM in another form, but
-  // loses the two-rig mount stiffness and the second of two effects (measured in the README).
+  // Experimental, off by default (docs/diagnosis.md, "Ranked beyond the tolerances"): where the tolerances leave a gap,
+  // rank every effect fitted on top of them and decide the verdict there (Diagnosis::beyond_tolerance), instead of from
+  // the effects fitted from the nominal as placed. It names a regulator that vents slowly and an fPAM in another form,
+  // but loses the two-rig mount stiffness and the second of two effects (measured in the README).
   bool rank_beyond_tolerances = false;
   // Beyond the tolerances: how many of the best effects are refitted jointly with every tolerance, each with
   // tolerance_evaluations replays.

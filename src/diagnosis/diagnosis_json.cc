@@ -27,22 +27,27 @@ nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
           {"evaluations", tolerance.evaluations}};
 }
 
-// An effect fitted beyond the tolerances, and what it closes of the gap they leave.
-nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b) {
+// An effect fitted beyond the tolerances, and what it closes of the gap they leave; with `ranked` (the ranking's
+// entries) also the training errors it was ranked by and the bootstrap interval, which the leader's refit of the
+// default path does not compute.
+nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b, bool ranked) {
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [name, value] : b.params) params[name] = value;
-  return {{"effect", b.effect},
-          {"params", params},
-          {"joint_with_tolerances", b.joint},
-          {"train_error_within", b.train_error_within},
-          {"train_error_with_effect", b.train_error_with_effect},
-          {"heldout_error_within", b.heldout_error_within},
-          {"heldout_error_with_effect", b.heldout_error_with_effect},
-          {"explained_fraction", b.explained_fraction},
-          {"explained_in_acted_on", b.explained_in_acted_on},
-          {"ci_low", b.ci_low},
-          {"ci_high", b.ci_high},
-          {"evaluations", b.evaluations}};
+  nlohmann::json j = {{"effect", b.effect},
+                      {"params", params},
+                      {"joint_with_tolerances", b.joint},
+                      {"heldout_error_within", b.heldout_error_within},
+                      {"heldout_error_with_effect", b.heldout_error_with_effect},
+                      {"explained_fraction", b.explained_fraction},
+                      {"explained_in_acted_on", b.explained_in_acted_on},
+                      {"evaluations", b.evaluations}};
+  if (ranked) {
+    j["train_error_within"] = b.train_error_within;
+    j["train_error_with_effect"] = b.train_error_with_effect;
+    j["ci_low"] = b.ci_low;
+    j["ci_high"] = b.ci_high;
+  }
+  return j;
 }
 
 }  // namespace
@@ -82,10 +87,11 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["also_effects"] = d.also_effects;
   if (!d.beyond_tolerance.empty()) {
     j["beyond_tolerance"] = nlohmann::json::array();
-    for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b));
+    for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b, true));
   }
-  if (d.beyond_tolerance_second) j["beyond_tolerance_second"] = beyond_tolerance_json(*d.beyond_tolerance_second);
-  if (d.leader_beyond_tolerance) j["leader_beyond_tolerance"] = beyond_tolerance_json(*d.leader_beyond_tolerance);
+  if (d.beyond_tolerance_second) j["beyond_tolerance_second"] = beyond_tolerance_json(*d.beyond_tolerance_second, true);
+  if (d.leader_beyond_tolerance)
+    j["leader_beyond_tolerance"] = beyond_tolerance_json(*d.leader_beyond_tolerance, false);
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));

@@ -19,8 +19,8 @@ Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only
   return predictions;
 }
 
-double GapProblem::training_error(const Predictions& predictions, const std::vector<bool>* only) const {
-  return mean_over_kinds(only, [&](std::size_t t) {
+double GapProblem::training_error(const Predictions& predictions) const {
+  return mean_over_kinds(nullptr, [&](std::size_t t) {
     const PreparedTrial& trial = trials_[t];
     double sum = 0.0;
     int n = 0;

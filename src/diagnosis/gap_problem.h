@@ -31,9 +31,8 @@ class GapProblem {
   // fills in the base model's).
   Predictions evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed = nullptr) const;
 
-  // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements;
-  // with `only`, over the trials it marks.
-  double training_error(const Predictions& predictions, const std::vector<bool>* only = nullptr) const;
+  // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements.
+  double training_error(const Predictions& predictions) const;
   // The same as residuals, each weighted so that their sum of squares is training_error (for least squares).
   std::vector<double> training_residuals(const Predictions& predictions) const;
   UnitSums heldout_sums(const Predictions& predictions) const;

@@ -160,10 +160,10 @@ void read_regulator(Reader r, Regulator& regulator) {
       regulator.time_constant > physics::plausible::kMaxTimeConstant) {
     r.fail("time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
   }
-  regulator.vent_time_constant = r.positive("vent_time_constant_s", regulator.time_constant);
-  if (regulator.vent_time_constant < physics::plausible::kMinTimeConstant ||
-      regulator.vent_time_constant > physics::plausible::kMaxTimeConstant) {
-    r.fail("vent_time_constant_s", "must lie in [0.001, 100] (the model integrates it in 1 ms steps)");
+  regulator.vent_time_constant = r.non_negative("vent_time_constant_s", 0.0);  // 0: as time_constant_s
+  if (regulator.vent_time_constant != 0.0 && (regulator.vent_time_constant < physics::plausible::kMinTimeConstant ||
+                                              regulator.vent_time_constant > physics::plausible::kMaxTimeConstant)) {
+    r.fail("vent_time_constant_s", "must be 0 (as time_constant_s) or lie in [0.001, 100] (1 ms integration steps)");
   }
   if (regulator.vent_time_constant == regulator.time_constant) regulator.vent_time_constant = 0.0;
   r.finish();

@@ -51,6 +51,9 @@ TEST(PlacementFile, RoundTrips) {
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
   EXPECT_EQ(parse_device(symmetric, "x.json").regulator.vent_time_constant, 0.0);
+  nlohmann::json zero = nlohmann::json::parse(symmetric);
+  zero["regulator"]["vent_time_constant_s"] = 0;  // stated as "the same as time_constant_s"
+  EXPECT_EQ(parse_device(zero.dump(), "x.json").regulator.vent_time_constant, 0.0);
 }
 
 // A malformed placement file is rejected with the file, the field and the problem.
@@ -76,6 +79,7 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = 1e4; }), "regulator.vent_time_constant_s"},
+      {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = -1; }), "regulator.vent_time_constant_s"},
       {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_nm"] = 50; }), "wrist.limit_stiffening_nm: must lie in [0, 20]"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_scale_deg"] = 1; }), "wrist.limit_stiffening_scale_deg"},
