@@ -5,7 +5,6 @@
 #include <tuple>
 
 #include "common/parallel_for.h"
-#include "diagnosis/effect_fit.h"
 #include "diagnosis/tolerance_fit.h"
 
 namespace softwrist::diagnosis {
@@ -21,7 +20,6 @@ struct Within {
   Predictions full;
   UnitSums sums;
   double train_error = 0.0;
-  Predictions nominal_training, nominal_full;  // of the nominal as placed (filled where needed)
 };
 
 Within within_of(const GapProblem& problem, const ToleranceFit& within) {
@@ -30,8 +28,6 @@ Within within_of(const GapProblem& problem, const ToleranceFit& within) {
   w.train_error = problem.training_error(problem.evaluate(*within.variant, true));
   return w;
 }
-
-double fraction_closed(double before, double after) { return before > 0.0 ? (before - after) / before : 0.0; }
 
 // b's errors and fractions with its model (b.variant) against `reference` (held-out sums): for an effect alone, the
 // nominal within every tolerance but the effect's own, whose box is part of the effect's range (an fPAM 8 % wider
@@ -45,9 +41,7 @@ void score(const GapProblem& problem, const Within& w, const UnitSums& reference
   b.heldout_error_within = problem.heldout_error(reference);
   b.heldout_error_with_effect = problem.heldout_error(after);
   b.explained_fraction = fraction_closed(b.heldout_error_within, b.heldout_error_with_effect);
-  const EffectSpec& spec = effect_spec(b.id);
-  std::vector<bool> acted_on;
-  for (const TrialGap& t : trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  const std::vector<bool> acted_on = gap_trials_acted_on(trials, effect_spec(b.id));
   if (std::any_of(acted_on.begin(), acted_on.end(), [](bool a) { return a; })) {
     b.explained_in_acted_on = fraction_closed(problem.heldout_error(reference, nullptr, &acted_on),
                                               problem.heldout_error(after, nullptr, &acted_on));
@@ -72,10 +66,7 @@ BeyondTolerance fit_on(const GapProblem& problem, EffectId id, const ModelVarian
 }
 
 std::vector<EffectId> applicable_effects(const GapProblem& problem, const DiagnosisOptions& options) {
-  std::vector<EffectId> ids = options.effects;
-  if (ids.empty()) {
-    for (const auto& spec : effect_catalogue()) ids.push_back(spec.id);
-  }
+  std::vector<EffectId> ids = requested_effects(options);
   std::erase_if(ids, [&](EffectId id) {
     const EffectSpec& spec = effect_spec(id);
     return std::none_of(problem.trials().begin(), problem.trials().end(),
@@ -92,14 +83,13 @@ void sort_by_training_error(std::vector<BeyondTolerance>& ranked) {
 
 }  // namespace
 
-std::vector<BeyondTolerance> rank_beyond_tolerances(const GapProblem& problem, const ModelVariant& nominal,
+std::vector<BeyondTolerance> rank_beyond_tolerances(const GapProblem& problem, const BaseModel& as_placed,
                                                     const sim::DeviceDescription& nominal_device,
                                                     const ToleranceFit& within, const std::vector<TrialGap>& trials,
                                                     const DiagnosisOptions& options) {
   if (within.params.empty() || !within.variant) return {};
-  Within w = within_of(problem, within);
-  w.nominal_training = problem.evaluate(nominal, true);
-  w.nominal_full = problem.evaluate(nominal, false);
+  const ModelVariant& nominal = as_placed.variant;
+  const Within w = within_of(problem, within);
   const std::vector<EffectId> ids = applicable_effects(problem, options);
   std::vector<BeyondTolerance> ranked(ids.size());
   std::vector<UnitSums> references(ids.size());
@@ -122,18 +112,17 @@ std::vector<BeyondTolerance> rank_beyond_tolerances(const GapProblem& problem, c
       settled ? 1 : static_cast<std::size_t>(std::max(0, options.beyond_joint_candidates)), ranked.size());
   for (std::size_t k = 0; k < joint; ++k) {  // one at a time: the least squares spreads its Jacobian over the jobs
     BeyondTolerance& b = ranked[k];
-    const EffectFit as_placed =
-        fit_effect(problem, b.id, {.variant = nominal, .training = w.nominal_training, .full = w.nominal_full},
-                   nominal_device, options, options.seed + 2500 + k);
+    const EffectFit from_placed =
+        fit_effect(problem, b.id, as_placed, nominal_device, options, options.seed + 2500 + k);
     const JointFit fit =
-        fit_effect_within_tolerances(problem, nominal, options, within, b.id, b.values, as_placed.values);
+        fit_effect_within_tolerances(problem, nominal, options, within, b.id, b.values, from_placed.values);
     BeyondTolerance refitted = b;
     refitted.values = fit.values;
     refitted.params = describe_values(b.id, fit.values, nominal_device);
     refitted.variant.emplace(fit.variant);
     refitted.tolerances = fit.tolerances;
     refitted.joint = true;
-    refitted.evaluations += as_placed.evaluations + fit.evaluations;
+    refitted.evaluations += from_placed.evaluations + fit.evaluations;
     score(problem, w, reference_of(b.id), trials, options, options.seed + 3000 + k, refitted);
     if (refitted.train_error_with_effect < b.train_error_with_effect) {
       b = std::move(refitted);

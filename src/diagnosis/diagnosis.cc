@@ -127,10 +127,7 @@ void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const Mode
 // Each effect alone on the nominal model, best first (applicable ones before the others).
 std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseModel& nominal,
                                        const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
-  std::vector<EffectId> ids = options.effects;
-  if (ids.empty()) {
-    for (const auto& spec : effect_catalogue()) ids.push_back(spec.id);
-  }
+  const std::vector<EffectId> ids = requested_effects(options);
   std::vector<EffectFit> fits(ids.size());
   parallel_for(static_cast<int>(ids.size()), options.jobs, [&](int k) {
     fits[static_cast<std::size_t>(k)] = fit_effect(problem, ids[static_cast<std::size_t>(k)], nominal, nominal_device,
@@ -232,15 +229,13 @@ void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVaria
   if (d.combination.empty()) return;
   const EffectFit& leading = d.combination.front();
   d.leading_effect = leading.name;
-  const EffectSpec& spec = effect_spec(leading.id);
-  std::vector<bool> acted_on;
-  for (const auto& t : d.trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  const std::vector<bool> acted_on = gap_trials_acted_on(d.trials, effect_spec(leading.id));
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
   ModelVariant alone = nominal;
   apply_effect(leading.id, leading.values, alone);
   const double before = problem.heldout_error(problem.heldout_sums(nominal_full), nullptr, &acted_on);
   const double after = problem.heldout_error(problem.heldout_sums(problem.evaluate(alone, false)), nullptr, &acted_on);
-  d.explained_fraction = before > 0.0 ? (before - after) / before : 0.0;
+  d.explained_fraction = fraction_closed(before, after);
 }
 
 // Where the leading effect alone falls short of the verdict's share and the nominal was fitted within its
@@ -250,9 +245,7 @@ void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, co
                                      const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   if (d.combination.empty() || d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
   const EffectFit& leading = d.combination.front();
-  const EffectSpec& spec = effect_spec(leading.id);
-  std::vector<bool> acted_on;
-  for (const auto& t : d.trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  const std::vector<bool> acted_on = gap_trials_acted_on(d.trials, effect_spec(leading.id));
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
   const JointFit joint =
       fit_effect_within_tolerances(problem, nominal, options, d.tolerance, leading.id, leading.values);
@@ -266,9 +259,7 @@ void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, co
       problem.heldout_error(problem.heldout_sums(problem.evaluate(*d.tolerance.variant, false)), nullptr, &acted_on);
   b.heldout_error_with_effect =
       problem.heldout_error(problem.heldout_sums(problem.evaluate(joint.variant, false)), nullptr, &acted_on);
-  b.explained_fraction = b.explained_in_acted_on =
-      b.heldout_error_within > 0.0 ? (b.heldout_error_within - b.heldout_error_with_effect) / b.heldout_error_within
-                                   : 0.0;
+  b.explained_fraction = b.explained_in_acted_on = fraction_closed(b.heldout_error_within, b.heldout_error_with_effect);
   d.leader_beyond_tolerance = std::move(b);
 }
 
@@ -277,7 +268,7 @@ bool second_adds(const Diagnosis& d, const DiagnosisOptions& options) {
   const auto& second = d.beyond_tolerance_second;
   if (!second || d.beyond_tolerance.empty()) return false;
   const double left = d.beyond_tolerance.front().heldout_error_with_effect;
-  return left > 0.0 && (left - second->heldout_error_with_effect) / left >= options.min_gain &&
+  return left > 0.0 && fraction_closed(left, second->heldout_error_with_effect) >= options.min_gain &&
          (second->ci_low > 0.0 || !d.interval_informative);
 }
 
@@ -296,7 +287,7 @@ EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
   f.train_error_after = b.train_error_with_effect;
   f.heldout_error_before = before;
   f.heldout_error_after = b.heldout_error_with_effect;
-  f.shrink_fraction = before > 0.0 ? (before - b.heldout_error_with_effect) / before : 0.0;
+  f.shrink_fraction = fraction_closed(before, b.heldout_error_with_effect);
   f.score = f.shrink_fraction;
   f.ci_low = b.ci_low;
   f.ci_high = b.ci_high;
@@ -316,10 +307,11 @@ std::vector<bool> gaps_left(const Diagnosis& d, const GapProblem& problem, const
 
 // With tolerances and a gap beyond them: each effect fitted on top of them, and a second where the first leaves a
 // trial with a gap (beyond_tolerance.h). False when none of the effects asked for acts on these data.
-bool attribute_beyond_tolerances(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+bool attribute_beyond_tolerances(Diagnosis& d, const GapProblem& problem, const BaseModel& as_placed,
                                  const sim::DeviceDescription& nominal_device, double trial_alpha,
                                  const DiagnosisOptions& options) {
-  d.beyond_tolerance = rank_beyond_tolerances(problem, nominal, nominal_device, d.tolerance, d.trials, options);
+  const ModelVariant& nominal = as_placed.variant;
+  d.beyond_tolerance = rank_beyond_tolerances(problem, as_placed, nominal_device, d.tolerance, d.trials, options);
   if (d.beyond_tolerance.empty()) return false;
   const std::vector<bool> left = gaps_left(d, problem, *d.beyond_tolerance.front().variant, trial_alpha, options);
   if (std::any_of(left.begin(), left.end(), [](bool g) { return g; }))
@@ -499,12 +491,12 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   const bool any_gap = std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; });
   if (any_gap) problem.set_scored(gap_trials);
   d.interval_informative = interval_informative(problem);
+  const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
   if (any_gap && !d.tolerance.params.empty() && options.rank_beyond_tolerances &&
-      attribute_beyond_tolerances(d, problem, nominal, nominal_device, trial_alpha, options)) {
+      attribute_beyond_tolerances(d, problem, reference, nominal_device, trial_alpha, options)) {
     d.corrected.emplace(*beyond_tolerance_model(d, options));
     d.corrected_predictions = problem.evaluate(*d.corrected, false);
   } else {
-    const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
     d.effects = fit_each_effect(problem, reference, nominal_device, options);
     Combination combination =
         combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);

@@ -137,7 +137,7 @@ struct Diagnosis {
   // Where the nominal within its tolerances leaves a gap: each effect fitted on top of it (beyond_tolerance.h), best
   // first by the training error it leaves, and what it closes of the held-out gap beyond the tolerances. A device
   // differs from its placement file within its tolerances and has an effect besides; fitted from the file alone, an
-  // effect competes with that scatter. With tolerances, the verdict is decided here.
+  // effect competes with that scatter. With DiagnosisOptions::rank_beyond_tolerances, the verdict is decided here.
   struct BeyondTolerance {
     EffectId id{};
     std::string effect;

@@ -86,6 +86,20 @@ Predictions predictions_with(const GapProblem& problem, const ModelVariant& vari
 
 }  // namespace
 
+std::vector<EffectId> requested_effects(const DiagnosisOptions& options) {
+  std::vector<EffectId> ids = options.effects;
+  if (ids.empty()) {
+    for (const auto& spec : effect_catalogue()) ids.push_back(spec.id);
+  }
+  return ids;
+}
+
+std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const EffectSpec& spec) {
+  std::vector<bool> acted_on;
+  for (const TrialGap& t : trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  return acted_on;
+}
+
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed) {
   const EffectSpec& spec = effect_spec(id);
@@ -127,9 +141,7 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   const UnitSums after =
       problem.heldout_sums(predictions_with(problem, variant_at(fit.values), spec, /*training_only=*/false, base.full));
   fit.heldout_error_after = problem.heldout_error(after);
-  fit.shrink_fraction = fit.heldout_error_before > 0.0
-                            ? (fit.heldout_error_before - fit.heldout_error_after) / fit.heldout_error_before
-                            : 0.0;
+  fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
   std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(problem, before, after, options.bootstrap, seed);
   fit.score = fit.shrink_fraction - options.parameter_penalty * static_cast<double>(spec.parameters.size());
   return fit;

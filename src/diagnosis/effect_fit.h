@@ -17,6 +17,12 @@ struct BaseModel {
   const Predictions& full;
 };
 
+// The effects the options ask for: their list, or the whole catalogue when it is empty.
+std::vector<EffectId> requested_effects(const DiagnosisOptions& options);
+
+// Which trials have a gap and are of a kind `spec` acts on (a trial is the index into `trials`).
+std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const EffectSpec& spec);
+
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);
 

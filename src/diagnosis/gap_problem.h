@@ -59,6 +59,9 @@ class GapProblem {
   std::vector<bool> scored_;  // empty: every trial
 };
 
+// The fraction of a held-out error `before` that `after` closes: (before - after) / before, 0 when there was none.
+inline double fraction_closed(double before, double after) { return before > 0.0 ? (before - after) / before : 0.0; }
+
 // The bootstrap's 95 % interval of the shrink fraction, resampling each trial's held-out units with replacement;
 // both models see the same resample. Resamples with no gap left to shrink are left out.
 std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
