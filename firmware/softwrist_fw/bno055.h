@@ -13,24 +13,42 @@ class Bno055 {
  public:
   explicit Bno055(uint8_t address) : address_(address) {}
 
-  // Selects the NDOF fusion mode (register OPR_MODE 0x3D <- 0x0C; datasheet Table 3-5).
-  bool begin() {
-    if (read_register(0x00) != 0xA0) return false;  // CHIP_ID
-    write_register(0x3D, 0x00);                     // CONFIG mode first
-    delay(25);
-    write_register(0x3D, 0x0C);  // NDOF
-    delay(20);
-    ready_ = true;
-    return true;
+  // Selects the NDOF fusion mode (register OPR_MODE 0x3D <- 0x0C; datasheet Table 3-5) without blocking: CONFIG mode
+  // first, NDOF 25 ms later, a reading 20 ms after that (Table 3-6: up to 7 ms into CONFIG, 19 ms out of it). Called
+  // by read() until ready, so an IMU that comes back on the bus never holds the loop: the 45 ms this took as two
+  // delay()s would outlast the hardware watchdog's 32 ms (and the safety gate's passes).
+  void start(uint32_t now_ms) {
+    switch (state_) {
+      case kAbsent:
+        if (read_register(0x00) != 0xA0) return;  // CHIP_ID
+        write_register(0x3D, 0x00);               // CONFIG
+        break;
+      case kConfig:
+        if (now_ms - since_ms_ < 25) return;
+        write_register(0x3D, 0x0C);  // NDOF
+        break;
+      case kFusing:
+        if (now_ms - since_ms_ < 20) return;
+        break;
+      case kReady:
+        return;
+    }
+    state_ = static_cast<State>(state_ + 1);
+    since_ms_ = now_ms;
   }
+  bool ready() const { return state_ == kReady; }
 
-  // The orientation (registers QUA_Data_w_LSB 0x20 .. z_MSB 0x27); false when the chip does not answer.
-  bool read(Quaternion* q) {
-    if (!ready_ && !begin()) return false;
+  // The orientation (registers QUA_Data_w_LSB 0x20 .. z_MSB 0x27); false when the chip does not answer or is still
+  // starting.
+  bool read(Quaternion* q, uint32_t now_ms) {
+    if (state_ != kReady) {
+      start(now_ms);
+      return false;
+    }
     Wire.beginTransmission(address_);
     Wire.write(static_cast<uint8_t>(0x20));
     if (Wire.endTransmission() != 0 || Wire.requestFrom(address_, static_cast<uint8_t>(8)) != 8) {
-      ready_ = false;
+      state_ = kAbsent;
       return false;
     }
     int16_t raw[4];
@@ -64,6 +82,8 @@ class Bno055 {
     Wire.endTransmission();
   }
 
+  enum State : uint8_t { kAbsent, kConfig, kFusing, kReady };
   uint8_t address_;
-  bool ready_ = false;
+  State state_ = kAbsent;
+  uint32_t since_ms_ = 0;
 };

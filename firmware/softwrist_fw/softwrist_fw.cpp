@@ -68,6 +68,17 @@ void apply_outputs(const int32_t dkpa[4]) {
 
 }  // namespace
 
+// First thing after any reset, before the C runtime's initialisation (section .init3; avr-libc's <avr/wdt.h>
+// documentation): after a watchdog reset the AVR keeps its watchdog running at the shortest period, 16 ms (ATmega328P
+// datasheet, 10.9.2: WDRF overrides WDE), which reset the firmware again in its IMU start-up, for ever: found by the
+// firmware in the loop (HungFirmwareIsResetByTheHardwareWatchdogAndComesBackVented). An Uno's optiboot clears it
+// before the sketch starts; a board flashed without a bootloader, or with an older one, does not.
+void clear_watchdog_after_reset() __attribute__((naked, used, section(".init3")));
+void clear_watchdog_after_reset() {
+  MCUSR = 0;
+  wdt_disable();
+}
+
 void setup() {
   for (int i = 0; i < 4; ++i) {
     pinMode(kRegulatorPins[i], OUTPUT);
@@ -80,14 +91,18 @@ void setup() {
   Wire.begin();
   Wire.setClock(400000);
   // A slave that holds the bus makes the Wire library wait forever by default: give up after 5 ms and reset the bus,
-  // so a stuck IMU is an invalid reading (the gate vents within 40 ms), not a hung loop (the hardware watchdog's 60
-  // ms).
+  // so a stuck IMU is an invalid reading (the gate vents within 40 ms), not a hung loop (the hardware watchdog's 32
+  // ms, below).
   Wire.setWireTimeout(5000, true);
-  forearm_imu.begin();
-  hand_imu.begin();
-  // The AVR's own watchdog: a loop that hangs (an I2C bus fault can stall the Wire library forever) resets the
-  // board within 60 ms, and a reset leaves the PWM pins as inputs: the regulators' pull-downs vent them.
-  wdt_enable(WDTO_60MS);
+  // Both IMUs into fusion mode (45 ms), or on until they answer (an absent one starts when read() finds it).
+  for (const uint32_t start = millis(); millis() - start < 100 && !(forearm_imu.ready() && hand_imu.ready());) {
+    forearm_imu.start(millis());
+    hand_imu.start(millis());
+  }
+  // The AVR's own watchdog: a loop that hangs resets the board within 32 ms (WDTO_30MS: 4096 cycles of its 128 kHz
+  // oscillator), and a reset leaves the PWM pins as inputs: the regulators' pull-downs vent them, inside the 50 ms
+  // every other fault vents in. The longest pass is 3.6 ms (docs/hil.md); 60 ms (64 ms) vented too late.
+  wdt_enable(WDTO_30MS);
 }
 
 void loop() {
@@ -103,7 +118,9 @@ void loop() {
   if (now - last_data_ms >= kDataPeriodMs) {
     last_data_ms = now;
     Quaternion forearm, hand;
-    const bool valid = forearm_imu.read(&forearm) && hand_imu.read(&hand);
+    // Both read (or started) every period, so two IMUs that come back start together.
+    const bool forearm_valid = forearm_imu.read(&forearm, now);
+    const bool valid = hand_imu.read(&hand, now) && forearm_valid;
     if (valid) wrist_angles_cdeg(forearm, hand, &fe_cdeg, &ur_cdeg);
     gate.imu_reading(valid, now);
     int32_t measured[4];

@@ -57,6 +57,8 @@ EmulatorConfig load_emulator_config(const std::filesystem::path& path) {
       g.finish();
     }
     c.effects.pwm_steps = e.boolean("pwm_steps", true);
+    c.effects.pwm_filter_time_constant_s = e.non_negative("pwm_filter_time_constant_s", 0.010);
+    if (c.effects.pwm_filter_time_constant_s > 1.0) e.fail("pwm_filter_time_constant_s", "is above 1 s");
     if (e.has("passive_wrist")) {
       io::JsonReader w = e.child("passive_wrist");
       c.effects.wrist_stiffness_scale = w.positive("stiffness_scale", 1.0);
@@ -150,6 +152,8 @@ struct DeviceEmulator::Firmware {
   std::uint32_t dead_time_ms, latency_ms;
   std::deque<std::pair<std::uint32_t, std::array<int32_t, 4>>> setpoints;  // for the dead time
   std::deque<std::pair<std::uint32_t, control::WristAngles>> readings;     // for the IMU latency
+  std::array<double, 4> filtered_kpa{};                                    // each PWM pin's RC filter [kPa of setpoint]
+  std::optional<std::uint32_t> last_output_ms;
   int32_t fe_cdeg = 0, ur_cdeg = 0;
   bool vented = true, imu_stale = false;
   std::optional<std::uint32_t> first_hello_ms;
@@ -300,13 +304,19 @@ void DeviceEmulator::update_outputs(std::uint32_t t) {
   const std::array<int32_t, 4>& applied = now_vented ? out : fw.setpoints.front().second;
   // A regulator saturates at its range whatever the device's configured limit (the plant refuses anything else).
   const double max_kpa = device_->plant.max_pressure_kpa();
+  const double dt_s = fw.last_output_ms ? (t - *fw.last_output_ms) / 1000.0 : 1e-3;
+  fw.last_output_ms = t;
+  const double tau = config_.effects.pwm_filter_time_constant_s;
+  const double alpha = config_.effects.pwm_steps && tau > 0.0 ? 1.0 - std::exp(-dt_s / tau) : 1.0;
   control::Pressures setpoints_kpa{};
-  // Through the firmware's 8-bit PWM (pwm_scaling.h): the regulators see its 0.54 kPa steps.
+  // Through the firmware's 8-bit PWM (pwm_scaling.h) and the board's RC filter: the regulators see its 0.54 kPa steps,
+  // smoothed. Vented, the supply valve is closed whatever the filter still holds.
   for (std::size_t i = 0; i < 4; ++i) {
     const bool fast = wire::fast_pwm_muscle(static_cast<int>(i));
     const double kpa =
         config_.effects.pwm_steps ? wire::pwm_setpoint_kpa(wire::pwm_value(applied[i], fast), fast) : applied[i] / 10.0;
-    setpoints_kpa[i] = std::clamp(kpa, 0.0, max_kpa);
+    fw.filtered_kpa[i] += alpha * (kpa - fw.filtered_kpa[i]);
+    setpoints_kpa[i] = now_vented ? 0.0 : std::clamp(fw.filtered_kpa[i], 0.0, max_kpa);
   }
   device_->plant.command_pressures_kpa(setpoints_kpa);
 }

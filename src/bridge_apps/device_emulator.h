@@ -45,6 +45,10 @@ struct EmulatorEffects {
   // The regulators see the setpoints through the firmware's 8-bit PWM (bridge/pwm_scaling.h), as on the Uno; off,
   // exactly (to compare the bridge's path with the simulation, which has no PWM).
   bool pwm_steps = true;
+  // The RC low-pass between each PWM pin and its regulator's 0-10 V input (with pwm_steps; the firmware in the loop's
+  // board has the same): 10 ms, assumed; firmware/README.md asks for a filter well above the PWM's 1-2 ms period and
+  // well below the regulator's own 0.1 s. 0: none.
+  double pwm_filter_time_constant_s = 0.010;
   double regulator_dead_time_s = 0.0;
   double imu_noise_std_deg = 0.0;
   double imu_bias_fe_deg = 0.0, imu_bias_ur_deg = 0.0;

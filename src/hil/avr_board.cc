@@ -170,8 +170,8 @@ bool is_avr_elf(const std::filesystem::path& path) {
 }  // namespace
 
 struct AvrBoard::Impl {
-  Impl(const std::filesystem::path& firmware, const bridge::EmulatorConfig& config, BoardOptions board_options)
-      : options(board_options),
+  Impl(const std::filesystem::path& firmware, const bridge::EmulatorConfig& config)
+      : pwm_filter_time_constant_s(config.effects.pwm_filter_time_constant_s),
         simulated(bridge::emulated_description(config), sim::ModelOptions{.gravity = config.gravity}),
         plant(simulated.model, units::pa_to_kpa(simulated.description.regulator.max_pressure),
               sim::ImuModel{.period_s = 0.01,
@@ -317,7 +317,9 @@ struct AvrBoard::Impl {
       const int state = avr_run(avr);
       if (avr->pc == 0 && pc_before != 0) {
         ++stats.resets;
+        stats.reset_ms.push_back(static_cast<std::uint32_t>(avr->cycle / kCyclesPerMs));
         last_loop_cycle = 0;
+        release_hang();
       }
       measure();
       if (state == cpu_Done || state == cpu_Crashed) {
@@ -328,9 +330,26 @@ struct AvrBoard::Impl {
     if (heap_start != 0) stats.stack_headroom_bytes = min_sp + 1 - static_cast<int>(heap_start);
   }
 
+  // `rjmp .-2` (0xCFFF: a relative jump by -1 word, to itself) over loop()'s first instruction; the original back at a
+  // reset. simavr decodes every instruction from flash as it runs it, so the patch acts at once.
+  void hang() {
+    if (loop_address == 0) throw std::runtime_error("the firmware has no loop() symbol to hang");
+    if (hung) return;
+    hung = true;
+    saved_loop_word = {avr->flash[loop_address], avr->flash[loop_address + 1]};
+    avr->flash[loop_address] = 0xFF;
+    avr->flash[loop_address + 1] = 0xCF;
+  }
+  void release_hang() {
+    if (!hung) return;
+    hung = false;
+    avr->flash[loop_address] = saved_loop_word[0];
+    avr->flash[loop_address + 1] = saved_loop_word[1];
+  }
+
   // Loop passes and the stack, after every instruction.
   void measure() {
-    if (loop_address != 0 && avr->pc == loop_address) {
+    if (loop_address != 0 && avr->pc == loop_address && !hung) {
       if (last_loop_cycle != 0) {
         const std::uint64_t pass = avr->cycle - last_loop_cycle;
         stats.loop_max_cycles = std::max(stats.loop_max_cycles, pass);
@@ -348,7 +367,7 @@ struct AvrBoard::Impl {
     const auto bit = [this](int address, int b) { return (avr->data[address] >> b) & 1; };
     const bool valve_open = bit(kDdrD, kValveBit) && bit(kPortD, kValveBit);
     const double max_kpa = plant.max_pressure_kpa();
-    const double alpha = 1.0 - std::exp(-dt_s / options.pwm_filter_time_constant_s);
+    const double alpha = pwm_filter_time_constant_s > 0.0 ? 1.0 - std::exp(-dt_s / pwm_filter_time_constant_s) : 1.0;
     for (std::size_t i = 0; i < 4; ++i) {
       const PwmPin& p = kRegulatorPins[i];
       double duty = 0.0;
@@ -384,10 +403,12 @@ struct AvrBoard::Impl {
     }
   }
 
-  BoardOptions options;
+  double pwm_filter_time_constant_s;
   std::uint32_t loop_address = 0, heap_start = 0;
   std::uint64_t last_loop_cycle = 0, transaction_start = 0;
   bool transaction_read_quaternion = false;
+  bool hung = false;
+  std::array<std::uint8_t, 2> saved_loop_word{};
   int min_sp = 0x8FF;  // RAMEND
   experiments::SimulatedDevice simulated;
   sim::SimulatedPlant plant;
@@ -406,8 +427,8 @@ struct AvrBoard::Impl {
   BoardStats stats;
 };
 
-AvrBoard::AvrBoard(const std::filesystem::path& firmware, const bridge::EmulatorConfig& plant, BoardOptions options)
-    : impl_(std::make_unique<Impl>(firmware, plant, options)) {}
+AvrBoard::AvrBoard(const std::filesystem::path& firmware, const bridge::EmulatorConfig& plant)
+    : impl_(std::make_unique<Impl>(firmware, plant)) {}
 
 AvrBoard::~AvrBoard() = default;
 
@@ -439,6 +460,8 @@ void AvrBoard::set_safety_switch_open(bool open) { impl_->set_safety_switch(open
 void AvrBoard::set_imu_silent(int imu, bool silent) { impl_->imus.at(static_cast<std::size_t>(imu)).silent = silent; }
 
 void AvrBoard::set_imu_stuck(int imu, bool stuck) { impl_->imus.at(static_cast<std::size_t>(imu)).stuck = stuck; }
+
+void AvrBoard::hang_firmware() { impl_->hang(); }
 
 const BoardStats& AvrBoard::stats() const { return impl_->stats; }
 

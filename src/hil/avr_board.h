@@ -11,14 +11,16 @@
 //                             (0x20-0x27, 2^14 LSB per unit), the forearm's fixed and the hand's from the simulated
 //                             wrist's IMU angles (noise and posture as the emulator config says)
 //   A0-A3                 <-  the regulators' pressure monitors, 0-5 V for 0-137 kPa
-//   PWM 3, 5, 6, 9        ->  through an RC low-pass (time constant BoardOptions) into the regulators' setpoints
+//   PWM 3, 5, 6, 9        ->  through an RC low-pass (the emulator config's effects.pwm_filter_time_constant_s, as
+//                             the emulator's own) into the regulators' setpoints
 //                             (flexor, extensor, ulnar, radial); a pin that is not an output (after a reset) reads 0,
 //                             as the regulators' inputs are pulled down
 //   pin 7                 ->  the supply valve: closed, every regulator vents
 //   pin 8                 <-  the safety switch, closed to ground (a test can open it)
 // What it does not model: electrical noise, the QB3's own response beyond the plant's regulator model, the BNO055's
 // fusion (it reports the simulated angles exactly, plus the IMU model's noise), the emulator's dead time, IMU
-// latency and bias, and the emulator's injected faults (the board has its own: the switch, a silent I2C slave).
+// latency and bias, and the emulator's injected faults (the board has its own: the switch, a silent or stuck I2C
+// slave, a hung program).
 
 #include <cstdint>
 #include <filesystem>
@@ -34,15 +36,10 @@ inline constexpr std::uint32_t kAvrClockHz = 16'000'000;  // the Uno's crystal
 inline constexpr double avr_seconds(std::uint64_t cycles) { return static_cast<double>(cycles) / kAvrClockHz; }
 inline constexpr double avr_microseconds(double cycles) { return cycles * 1e6 / kAvrClockHz; }
 
-struct BoardOptions {
-  // The RC low-pass between a PWM pin (490/980 Hz) and its regulator's 0-10 V input: 10 ms (assumed; firmware/README.md
-  // asks for a filter well above the PWM period and well below the regulator's own 0.1 s).
-  double pwm_filter_time_constant_s = 0.010;
-};
-
 struct BoardStats {
-  std::uint64_t cycles = 0;  // AVR cycles run
-  long resets = 0;           // the AVR restarted (its hardware watchdog), after the power-on one
+  std::uint64_t cycles = 0;             // AVR cycles run
+  long resets = 0;                      // the AVR restarted (its hardware watchdog), after the power-on one
+  std::vector<std::uint32_t> reset_ms;  // when, in AVR milliseconds
   long bytes_from_avr = 0, bytes_to_avr = 0, bytes_lost_to_avr = 0;
   long i2c_reads = 0;             // quaternion reads answered
   double max_setpoint_kpa = 0.0;  // the highest any regulator was told
@@ -69,7 +66,7 @@ class AvrBoard final : public bridge::LineDevice {
  public:
   // Loads `firmware` (an ELF for the ATmega328P) and builds the plant from `plant` (the emulator's config). Throws
   // std::runtime_error naming the file when it cannot be read as AVR firmware.
-  AvrBoard(const std::filesystem::path& firmware, const bridge::EmulatorConfig& plant, BoardOptions options = {});
+  AvrBoard(const std::filesystem::path& firmware, const bridge::EmulatorConfig& plant);
   ~AvrBoard() override;
   AvrBoard(const AvrBoard&) = delete;
   AvrBoard& operator=(const AvrBoard&) = delete;
@@ -83,6 +80,11 @@ class AvrBoard final : public bridge::LineDevice {
   void set_imu_silent(int imu, bool silent);
   // An IMU that acknowledges its address, then never sends the bytes asked for.
   void set_imu_stuck(int imu, bool stuck);
+  // The program hangs (a corrupted pointer, an interrupt that never returns, a library waiting forever): from now
+  // until the AVR next resets, loop() spins at its entry (its first instruction becomes a jump to itself), while
+  // the timers, their PWM and the interrupts run on. Only the AVR's hardware watchdog gets the board out of it; the
+  // reset clears the fault, as a power cycle clears a transient one.
+  void hang_firmware();
 
   const BoardStats& stats() const;
   control::Pressures setpoints_kpa() const;  // what the regulators are told now (after the filter and the valve)

@@ -384,6 +384,13 @@ TEST(EmulatorConfig, ReadsEffectsAndFaultsAndNamesBadFields) {
       "effects": {"imu": {"noise": 1}}})"));
       },
       ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("noise")));
+  EXPECT_DOUBLE_EQ(c.effects.pwm_filter_time_constant_s, 0.010);  // the board's RC filter by default
+  EXPECT_THAT(
+      [&] {
+        load_emulator_config(write(R"({"format": "softwrist.emulator/1", "model": "d.json",
+      "effects": {"pwm_filter_time_constant_s": 2}})"));
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("pwm_filter_time_constant_s: is above 1 s")));
   EXPECT_THAT([&] { load_emulator_config(write(R"({"format": "softwrist.experiment/1", "model": "d.json"})")); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("format")));
   std::filesystem::remove_all(dir);
