@@ -348,6 +348,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::cached(
 
 sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const Trial& trial) const {
   sim::ModelOptions options;
+  options.anatomy = false;  // drawing only: it moves nothing, and compiling its meshes was 90 % of a model's load
   const auto axis = gravity_axis(trial.conventions.posture);
   options.gravity = axis ? sim::kStandardGravity : 0.0;
   if (axis) options.gravity_axis = *axis;

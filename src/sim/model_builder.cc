@@ -109,7 +109,14 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
 
   auto [custom, forearm_items, hand_items, tendons, actuators] = muscle_items(device, options);
   AnatomyVisuals anatomy = anatomy_visuals(device);
-  if (!options.anatomy) anatomy.forearm_geoms = anatomy.hand_geoms = "";
+  // Without the drawing, without its meshes, textures, materials and table too: they took 90 % of a model's compile
+  // (11 ms against 1.1 for the paper's device), and a diagnosis compiles one per replay.
+  if (!options.anatomy) anatomy = AnatomyVisuals{};
+  const std::string table =
+      options.anatomy ? R"(    <geom name="table" type="plane" pos="0 0 -0.085" size="0.8 0.8 0.01" material="table" )"
+                        R"(contype="0" conaffinity="0"/>)"
+                        "\n"
+                      : "";
   // MuJoCo's joint stiffness is linear: the stiffening towards the limits is WristSim's, read from here.
   if (w.limit_stiffening.torque > 0.0) {
     custom += fmt::format("    <numeric name=\"{}\" size=\"2\" data=\"{:.10g} {:.10g}\"/>\n", kLimitStiffeningNumeric,
@@ -123,7 +130,12 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
        damping: approximately Charles & Hogan 2011 (J Biomech 44:614) and Formica et al. 2012 (J Neurophysiol
        108:1158, ulnar/radial stiffer than flexion/extension). Joint ranges: biological range of motion, Table RoM. -->
   <compiler angle="radian" inertiafromgeom="false"/>
-  <option timestep="{timestep:.10g}" gravity="{gravity}"/>
+  <!-- No contacts: every geom is drawing only (contype and conaffinity 0), and without the flag MuJoCo still ran its
+       collision broadphase every step (12 % of a diagnosis's time, measured with perf). A geom added to collide
+       needs this flag removed. -->
+  <option timestep="{timestep:.10g}" gravity="{gravity}">
+    <flag contact="disable"/>
+  </option>
   <visual>
     <global offwidth="1280" offheight="960"/>
     <headlight ambient="0.25 0.25 0.25" diffuse="0.35 0.35 0.35" specular="0.1 0.1 0.1"/>
@@ -135,8 +147,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
   <worldbody>
     <light pos="0.2 -0.4 1.2" dir="-0.15 0.3 -1" diffuse="0.65 0.65 0.62" castshadow="true"/>
     <light pos="-0.4 0.6 0.8" dir="0.4 -0.6 -0.8" diffuse="0.25 0.25 0.28" castshadow="false"/>
-    <geom name="table" type="plane" pos="0 0 -0.085" size="0.8 0.8 0.01" material="table" contype="0" conaffinity="0"/>
-    <body name="forearm" quat="0.70710678 0.70710678 0 0">
+{table}    <body name="forearm" quat="0.70710678 0.70710678 0 0">
       <inertial pos="-0.12 0 0" mass="1.2" diaginertia="0.001 0.006 0.006"/>
 {forearm_geoms}{forearm_items}      <body name="hand">
         <joint name="wrist_fe" type="hinge" axis="0 1 0" limited="true" range="{ext:.10g} {flex:.10g}" stiffness="{kfe:.10g}" damping="{bfe:.10g}"/>
@@ -158,7 +169,7 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
       fmt::arg("bfe", w.damping_fe), fmt::arg("kur", w.stiffness_ur), fmt::arg("bur", w.damping_ur),
       fmt::arg("com", h.com_distance), fmt::arg("mass", h.mass), fmt::arg("i", inertia),
       fmt::arg("assets", anatomy.assets), fmt::arg("forearm_geoms", anatomy.forearm_geoms),
-      fmt::arg("hand_geoms", anatomy.hand_geoms));
+      fmt::arg("hand_geoms", anatomy.hand_geoms), fmt::arg("table", table));
 }
 
 }  // namespace softwrist::sim
