@@ -14,7 +14,7 @@ class Bno055 {
   explicit Bno055(uint8_t address) : address_(address) {}
 
   // Selects the NDOF fusion mode (register OPR_MODE 0x3D <- 0x0C; datasheet Table 3-5) without blocking: CONFIG mode
-  // first, NDOF 25 ms later, a reading 20 ms after that (Table 3-6: up to 7 ms into CONFIG, 19 ms out of it). Called
+  // first, NDOF 25 ms later, a reading 20 ms after that (Table 3-6: up to 19 ms into CONFIG, 7 ms out of it). Called
   // by read() until ready, so an IMU that comes back on the bus never holds the loop: the 45 ms this took as two
   // delay()s would outlast the hardware watchdog's 32 ms (and the safety gate's passes).
   void start(uint32_t now_ms) {
@@ -65,7 +65,15 @@ class Bno055 {
     // reading (a slave that stopped sending mid-transfer left the bus's last byte in every register; taken as valid,
     // its angles kept the regulators pressurised: found by the firmware in the loop, StuckImuVentsWithin50ms).
     const float norm2 = q->w * q->w + q->x * q->x + q->y * q->y + q->z * q->z;
-    return norm2 > 0.81f && norm2 < 1.21f;
+    const bool unit = norm2 > 0.81f && norm2 < 1.21f;
+    // A chip that reset (a brown-out) answers again in CONFIG mode, with zeros for the quaternion: after 100 ms of
+    // such readings, start it again (found by the firmware in the loop, ImuThatResetsIsStartedAgain).
+    not_unit_ = unit ? 0 : not_unit_ + 1;
+    if (not_unit_ >= kRestartAfterNotUnit) {
+      not_unit_ = 0;
+      state_ = kAbsent;
+    }
+    return unit;
   }
 
  private:
@@ -83,7 +91,9 @@ class Bno055 {
   }
 
   enum State : uint8_t { kAbsent, kConfig, kFusing, kReady };
+  static const uint8_t kRestartAfterNotUnit = 10;  // readings in a row, one every 10 ms
   uint8_t address_;
   State state_ = kAbsent;
   uint32_t since_ms_ = 0;
+  uint8_t not_unit_ = 0;
 };

@@ -74,7 +74,8 @@ struct Bno055Slave {
     std::uint8_t value = 0;
     if (reg == 0x00) value = 0xA0;  // CHIP_ID
     if (reg == 0x3D) value = mode;
-    if (reg >= 0x20 && reg <= 0x27) {
+    // The fused quaternion reads zero outside a fusion mode (NDOF, 0x0C), as after the chip's own reset.
+    if (reg >= 0x20 && reg <= 0x27 && mode == 0x0C) {
       const std::int16_t q = quaternion[static_cast<std::size_t>((reg - 0x20) / 2)];
       value = static_cast<std::uint8_t>(((reg - 0x20) % 2 == 0 ? q : q >> 8) & 0xFF);
     }
@@ -315,6 +316,7 @@ struct AvrBoard::Impl {
       }
       const std::uint32_t pc_before = avr->pc;
       const int state = avr_run(avr);
+      // simavr 1.6's avr_reset keeps avr->cycle counting (newer simavr zeroes it, which would break this clock).
       if (avr->pc == 0 && pc_before != 0) {
         ++stats.resets;
         stats.reset_ms.push_back(static_cast<std::uint32_t>(avr->cycle / kCyclesPerMs));
@@ -460,6 +462,8 @@ void AvrBoard::set_safety_switch_open(bool open) { impl_->set_safety_switch(open
 void AvrBoard::set_imu_silent(int imu, bool silent) { impl_->imus.at(static_cast<std::size_t>(imu)).silent = silent; }
 
 void AvrBoard::set_imu_stuck(int imu, bool stuck) { impl_->imus.at(static_cast<std::size_t>(imu)).stuck = stuck; }
+
+void AvrBoard::reset_imu(int imu) { impl_->imus.at(static_cast<std::size_t>(imu)).mode = 0; }
 
 void AvrBoard::hang_firmware() { impl_->hang(); }
 

@@ -80,6 +80,9 @@ class AvrBoard final : public bridge::LineDevice {
   void set_imu_silent(int imu, bool silent);
   // An IMU that acknowledges its address, then never sends the bytes asked for.
   void set_imu_stuck(int imu, bool stuck);
+  // An IMU that resets (a brown-out): it answers again at once, in CONFIG mode, with a zero quaternion until the
+  // firmware selects a fusion mode again.
+  void reset_imu(int imu);
   // The program hangs (a corrupted pointer, an interrupt that never returns, a library waiting forever): from now
   // until the AVR next resets, loop() spins at its entry (its first instruction becomes a jump to itself), while
   // the timers, their PWM and the interrupts run on. Only the AVR's hardware watchdog gets the board out of it; the

@@ -38,7 +38,8 @@ struct ModelOptions {
   // or flexion/extension (the forearm turned palm down, so the weight flexes the wrist).
   physics::WristAxis gravity_axis = physics::WristAxis::kUlnarRadial;
   // The drawn hand, forearm, glove, band, IMUs and stand-offs (anatomy_visuals.h). They carry no mass and make no
-  // contact; false leaves their geoms out (the test that they change no dynamics).
+  // contact; false leaves them out with their meshes, textures and materials and the table (a tenth of the compile
+  // time: the diagnosis's replays, and the test that they change no dynamics).
   bool anatomy = true;
 };
 

@@ -282,6 +282,29 @@ TEST(FirmwareInTheLoop, StuckImuVentsWithin50ms) {
   EXPECT_LE(vent_ms, 50);
 }
 
+// Regression (found by this board): an IMU that resets (a brown-out) answers again at once, in CONFIG mode, with a
+// zero quaternion; the firmware only restarted an IMU after a bus error, so it rejected the zeros and vented for ever.
+// Now ten non-unit readings in a row (100 ms) start the IMU again, and the next session runs.
+TEST(FirmwareInTheLoop, ImuThatResetsIsStartedAgain) {
+  Session s;
+  s.command_for(80.0, 300);
+  ASSERT_FALSE(s.board.stats().vented);
+  const std::uint32_t reset = s.rig.now_ms();
+  s.board.reset_imu(1);
+  try {
+    s.command_for(80.0, 200);
+  } catch (const bridge::BridgeFault&) {  // the device's IMU fault flag
+  }
+  const long vent = s.vent_after(reset);
+  ASSERT_GE(vent, 0);
+  EXPECT_LE(vent - static_cast<long>(reset), 50);
+  s.rig.run_for_ms(300);
+  ASSERT_NO_THROW(s.host.start_session());
+  s.command_for(30.0, 500);
+  EXPECT_NEAR(s.board.setpoints_kpa()[0], 30.0, 1.0);
+  EXPECT_EQ(s.board.stats().resets, 0);
+}
+
 // A hung program (loop() stops running; the timers keep the regulators' PWM where it was): only the AVR's hardware
 // watchdog can vent, by resetting the board, whose pins then float and the regulators' pull-downs vent them. The board
 // comes back vented, without a session, answers the next hello and runs again: after a watchdog reset the AVR keeps its
@@ -292,6 +315,7 @@ TEST(FirmwareInTheLoop, HungFirmwareIsResetByTheHardwareWatchdogAndComesBackVent
   Session s;
   s.command_for(80.0, 300);
   ASSERT_FALSE(s.board.stats().vented);
+  ASSERT_EQ(s.board.stats().resets, 0);
   const std::uint32_t hang = s.rig.now_ms();
   s.board.hang_firmware();
   std::string host_told;

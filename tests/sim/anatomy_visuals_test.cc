@@ -65,6 +65,12 @@ TEST(AnatomyVisuals, ContactsOffChangeNoDynamicsAndTheBareModelHasNoAssets) {
   EXPECT_TRUE(without_collision->opt.disableflags & mjDSBL_CONTACT);
   EXPECT_FALSE(with_collision->opt.disableflags & mjDSBL_CONTACT);
   EXPECT_EQ(trajectory(without_collision), trajectory(with_collision));
+  // What makes it safe: no geom of the generated model can collide. One that should must come with the flag removed.
+  for (int g = 0; g < with_collision->ngeom; ++g) {
+    const char* name = mj_id2name(with_collision.get(), mjOBJ_GEOM, g);
+    EXPECT_EQ(with_collision->geom_contype[g] | with_collision->geom_conaffinity[g], 0)
+        << (name ? name : "an unnamed geom") << " could collide: remove <flag contact=\"disable\"/> (model_builder.cc)";
+  }
   const Model bare = build(device, false);
   EXPECT_EQ(bare->nmesh, 0);
   EXPECT_EQ(bare->ntex, 0);
