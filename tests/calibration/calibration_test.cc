@@ -85,8 +85,10 @@ TEST(RealisticCalibration, RecoversInjectedEffectsAndWritesALoadableCalibratedFi
   EXPECT_THAT(c.effects_applied, Contains("passive_wrist"));
   EXPECT_NEAR(parameter(c, "regulator_lag", "time_constant_s"), 0.25, 0.05 * 0.25);
   const double dead_time = parameter(c, "regulator_lag", "dead_time_s");
+  // The emulator's 30 ms, plus what the host also sees as dead time: the link, the 14 ms loop and the board's 10 ms
+  // PWM filter (measured: 40 ms before the emulator had the filter, 48 ms with it).
   EXPECT_GE(dead_time, 0.03 - 0.005);
-  EXPECT_LE(dead_time, 0.03 + 0.02);
+  EXPECT_LE(dead_time, 0.03 + 0.03);
   const double k1 = emulator.effects.mount_stiffness->forearm, k2 = emulator.effects.mount_stiffness->hand;
   const double series_n_per_cm2 = 1e-4 / std::pow(1.0 / std::sqrt(k1) + 1.0 / std::sqrt(k2), 2);
   EXPECT_NEAR(parameter(c, "mount_stretch", "K_series_n_per_cm2"), series_n_per_cm2, 0.2 * series_n_per_cm2);
