@@ -306,8 +306,8 @@ void DeviceEmulator::update_outputs(std::uint32_t t) {
   const double max_kpa = device_->plant.max_pressure_kpa();
   const double dt_s = fw.last_output_ms ? (t - *fw.last_output_ms) / 1000.0 : 1e-3;
   fw.last_output_ms = t;
-  const double tau = config_.effects.pwm_filter_time_constant_s;
-  const double alpha = config_.effects.pwm_steps && tau > 0.0 ? 1.0 - std::exp(-dt_s / tau) : 1.0;
+  const double alpha =
+      config_.effects.pwm_steps ? pwm_filter_blend(dt_s, config_.effects.pwm_filter_time_constant_s) : 1.0;
   control::Pressures setpoints_kpa{};
   // Through the firmware's 8-bit PWM (pwm_scaling.h) and the board's RC filter: the regulators see its 0.54 kPa steps,
   // smoothed. Vented, the supply valve is closed whatever the filter still holds.

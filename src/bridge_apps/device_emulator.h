@@ -18,6 +18,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -70,6 +71,13 @@ struct EmulatorConfig {
   wire::SafetyLimits limits;
   std::uint64_t seed = 1;
 };
+
+// The board's RC filter between a PWM pin and its regulator over a step of dt_s: the share of the way from its output
+// to its input it moves (first order, exact for an input held over the step; 1 without a filter). One law for the
+// emulator and the firmware in the loop's board.
+inline double pwm_filter_blend(double dt_s, double time_constant_s) {
+  return time_constant_s > 0.0 ? 1.0 - std::exp(-dt_s / time_constant_s) : 1.0;
+}
 
 // Reads an emulator config (format softwrist.emulator/1); relative paths start at the file's directory. Errors
 // throw std::runtime_error("<file>: <field>: <problem>").

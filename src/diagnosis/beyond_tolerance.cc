@@ -23,7 +23,7 @@ struct Within {
 };
 
 Within within_of(const GapProblem& problem, const ToleranceFit& within) {
-  Within w{.full = problem.evaluate(*within.variant, false)};
+  Within w{.full = within.full.empty() ? problem.evaluate(*within.variant, false) : within.full};
   w.sums = problem.heldout_sums(w.full);
   w.train_error = problem.training_error(problem.evaluate(*within.variant, true));
   return w;

@@ -114,10 +114,10 @@ void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const Mode
       any_gap ? fit_within_tolerances(problem, as_placed, options) : ToleranceFit{.tolerances = options.tolerances};
   d.tolerance.heldout_error_as_placed = d.tolerance.heldout_error_within = d.heldout_nominal;
   if (d.tolerance.params.empty()) return;
-  const Predictions within_full = problem.evaluate(*d.tolerance.variant, false);
-  d.tolerance.heldout_error_within = problem.heldout_error(problem.heldout_sums(within_full));
+  d.tolerance.full = problem.evaluate(*d.tolerance.variant, false);
+  d.tolerance.heldout_error_within = problem.heldout_error(problem.heldout_sums(d.tolerance.full));
   const std::vector<TrialGap> within =
-      nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, within_full), trial_alpha, options.min_gap);
+      nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, d.tolerance.full), trial_alpha, options.min_gap);
   for (std::size_t t = 0; t < d.trials.size(); ++t) {
     d.trials[t].excess_within_tolerance = within[t].excess_nominal;
     d.trials[t].gap = d.trials[t].gap && within[t].gap;
@@ -255,8 +255,7 @@ void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, co
                                .params = describe_values(leading.id, joint.values, nominal_device),
                                .joint = true,
                                .evaluations = joint.evaluations};
-  b.heldout_error_within =
-      problem.heldout_error(problem.heldout_sums(problem.evaluate(*d.tolerance.variant, false)), nullptr, &acted_on);
+  b.heldout_error_within = problem.heldout_error(problem.heldout_sums(d.tolerance.full), nullptr, &acted_on);
   b.heldout_error_with_effect =
       problem.heldout_error(problem.heldout_sums(problem.evaluate(joint.variant, false)), nullptr, &acted_on);
   b.explained_fraction = b.explained_in_acted_on = fraction_closed(b.heldout_error_within, b.heldout_error_with_effect);

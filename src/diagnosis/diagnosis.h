@@ -80,6 +80,9 @@ struct ToleranceFit {
   double heldout_error_as_placed = 0.0, heldout_error_within = 0.0;  // held out, the nominal as placed and fitted
   int evaluations = 0;
   std::optional<ModelVariant> variant;  // set by the fit (the nominal itself when nothing is free)
+  // The fitted model's predictions of every trial, [trial][point] (empty when nothing is free): replayed once here,
+  // for the trials' gaps within the tolerances and for what an effect closes beyond them.
+  std::vector<std::vector<double>> full;
 };
 
 // How an effect did: its fitted parameters, the held-out error before (nominal, or the combination it was added to)

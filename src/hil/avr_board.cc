@@ -369,7 +369,7 @@ struct AvrBoard::Impl {
     const auto bit = [this](int address, int b) { return (avr->data[address] >> b) & 1; };
     const bool valve_open = bit(kDdrD, kValveBit) && bit(kPortD, kValveBit);
     const double max_kpa = plant.max_pressure_kpa();
-    const double alpha = pwm_filter_time_constant_s > 0.0 ? 1.0 - std::exp(-dt_s / pwm_filter_time_constant_s) : 1.0;
+    const double alpha = bridge::pwm_filter_blend(dt_s, pwm_filter_time_constant_s);
     for (std::size_t i = 0; i < 4; ++i) {
       const PwmPin& p = kRegulatorPins[i];
       double duty = 0.0;
