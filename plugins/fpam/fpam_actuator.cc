@@ -5,6 +5,7 @@
 
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
+#include "physics/mount_stretch.h"
 #include "physics/units.h"
 
 namespace softwrist::plugin {
@@ -15,6 +16,9 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
   if (!read) return std::nullopt;
   return FpamActuator(std::move(*read));
 }
+
+FpamActuator::FpamActuator(FpamConfig config)
+    : config_(std::move(config)), mount_compliance_(physics::mount_compliance(config_.law.mount_stiffness)) {}
 
 double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) const {
   if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa)) return 0.0;
@@ -29,10 +33,13 @@ double FpamActuator::Force(double tendon_length, double regulated_kpa, double br
   if (!std::isfinite(tendon_length) || !std::isfinite(regulated_kpa) || tendon_length < 0.0) return 0.0;
   const physics::MuscleLaw& law = config_.law;
   const double pressure = units::kpa_to_pa(std::clamp(regulated_kpa, 0.0, config_.max_pressure_kpa));
-  const physics::FpamForceLaw force_law(pressure, law.fpam.at_pressure(pressure), law.fpam.fabric());
-  const double force = physics::stretched_force(law, force_law, tendon_length).force;  // validated in FromConfig
+  const physics::FpamCoefficients coefficients = law.fpam.at_pressure(pressure);
+  // The table was validated in FromConfig and the pressure is clamped to >= 0 above.
+  const auto force_law = physics::FpamForceLaw::Prevalidated(pressure, coefficients, law.fpam.fabric());
+  const double force = physics::stretched_force(law, force_law, tendon_length, mount_compliance_).force;
   if (!config_.hysteresis.active() || !std::isfinite(branch)) return force;
-  return physics::hysteretic_force(config_.hysteresis, force, branch);
+  return physics::hysteretic_force(config_.hysteresis, force, branch,
+                                   physics::pressure_end_force(pressure, coefficients));
 }
 
 double FpamActuator::BranchRate(double branch, double tendon_velocity) const {

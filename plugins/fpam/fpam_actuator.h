@@ -42,8 +42,9 @@ class FpamActuator {
   const FpamConfig& config() const { return config_; }
 
  private:
-  explicit FpamActuator(FpamConfig config) : config_(std::move(config)) {}
+  explicit FpamActuator(FpamConfig config);
   FpamConfig config_;
+  double mount_compliance_ = 0.0;  // 1/sqrt(K1) + 1/sqrt(K2), once (physics/mount_stretch.h)
 };
 
 }  // namespace softwrist::plugin

@@ -80,6 +80,7 @@ std::optional<physics::FpamParameters> ReadFpam(AttributeReader& read) {
   fabric.elastic_modulus = read.Positive(FpamConfig::kElasticModulus, fabric.elastic_modulus);
   fabric.thickness = read.Positive(FpamConfig::kThickness, fabric.thickness);
   fabric.elastic_onset_contraction = read.Number(FpamConfig::kElasticOnset, fabric.elastic_onset_contraction);
+  fabric.elastic_curvature = read.Number(FpamConfig::kElasticCurvature, fabric.elastic_curvature);
   if (!read.ok()) return std::nullopt;
   const bool constant = read.Has(FpamConfig::kRadius) || read.Has(FpamConfig::kMaxContraction);
   const bool table = read.Has(FpamConfig::kTablePressureKpa) || read.Has(FpamConfig::kTableRadius) ||
@@ -179,6 +180,11 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
   if (read.ok() && !(result.hysteresis.fraction >= 0.0 && result.hysteresis.fraction < 0.5))
     read.Fail(kHysteresis, "must be >= 0 and < 0.5");
   result.hysteresis.transition_length = read.Positive(kHysteresisLength, result.hysteresis.transition_length);
+  result.hysteresis.friction_force = read.Number(kHysteresisFriction, 0.0);
+  if (read.ok() && !(result.hysteresis.friction_force >= 0.0)) read.Fail(kHysteresisFriction, "must be >= 0 (N)");
+  result.hysteresis.pressure_friction = read.Number(kHysteresisPressureFriction, 0.0);
+  if (read.ok() && !(result.hysteresis.pressure_friction >= 0.0 && result.hysteresis.pressure_friction < 1.0))
+    read.Fail(kHysteresisPressureFriction, "must be >= 0 and < 1");
   if (!read.ok()) return std::nullopt;
   return result;
 }
@@ -201,6 +207,7 @@ std::string FpamConfig::ToText() const {
   const auto& fabric = law.fpam.fabric();
   text += fmt::format(" {}={:.10g} {}={:.10g} {}={:.10g}", kElasticModulus, fabric.elastic_modulus, kThickness,
                       fabric.thickness, kElasticOnset, fabric.elastic_onset_contraction);
+  if (fabric.elastic_curvature > 0.0) text += fmt::format(" {}={:.10g}", kElasticCurvature, fabric.elastic_curvature);
   text += fmt::format(" {}={}", kStretch, physics::to_string(law.stretch_mode));
   if (law.stretch_mode != physics::StretchMode::kNone) {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kForearmStiffness, law.mount_stiffness.forearm, kHandStiffness,
@@ -209,8 +216,9 @@ std::string FpamConfig::ToText() const {
   text += fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, time_constant);
   if (vent_time_constant > 0.0) text += fmt::format(" {}={:.10g}", kVentTimeConstant, vent_time_constant);
   if (hysteresis.active()) {
-    text += fmt::format(" {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction, kHysteresisLength,
-                        hysteresis.transition_length);
+    text += fmt::format(" {}={:.10g} {}={:.10g} {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction,
+                        kHysteresisLength, hysteresis.transition_length, kHysteresisFriction, hysteresis.friction_force,
+                        kHysteresisPressureFriction, hysteresis.pressure_friction);
   }
   return text;
 }

@@ -20,27 +20,46 @@ struct FpamConfig {
   static constexpr std::string_view kPluginName = "softwrist.fpam";
 
   // Attributes (units in the comment; SI except where the name says otherwise).
-  static constexpr std::string_view kRestLength = "rest_length";               // L0 [m], required
-  static constexpr std::string_view kRadius = "r0";                            // [m] constant fPAM, with eps_max
-  static constexpr std::string_view kMaxContraction = "eps_max";               //
-  static constexpr std::string_view kTablePressureKpa = "table_pressure_kpa";  // per-pressure fPAM: three lists
-  static constexpr std::string_view kTableRadius = "table_r0";                 // [m]
-  static constexpr std::string_view kTableMaxContraction = "table_eps_max";    //
-  static constexpr std::string_view kElasticModulus = "elastic_modulus";       // E [Pa], default 9.06e6
-  static constexpr std::string_view kThickness = "thickness";                  // t [m], default 0.08e-3
-  static constexpr std::string_view kElasticOnset = "epsilon0";                // default 0.153
-  static constexpr std::string_view kStretch = "stretch";                      // none | oneshot | selfconsistent
-  static constexpr std::string_view kForearmStiffness = "K1";                  // [N/m^2], |K1| used
-  static constexpr std::string_view kHandStiffness = "K2";                     // [N/m^2], |K2| used
-  static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";      // default 137
-  static constexpr std::string_view kTimeConstant = "time_constant";           // regulator [s], default 0.1
-  static constexpr std::string_view kVentTimeConstant = "vent_time_constant";  // while venting [s], default 0 (same)
-  static constexpr std::string_view kHysteresis = "hysteresis";                // h, default 0 (none)
-  static constexpr std::string_view kHysteresisLength = "hysteresis_length";   // l_h [m], default 0.002
-  static constexpr std::array<std::string_view, 17> kAttributes = {
-      kRestLength,     kRadius,       kMaxContraction,   kTablePressureKpa, kTableRadius,      kTableMaxContraction,
-      kElasticModulus, kThickness,    kElasticOnset,     kStretch,          kForearmStiffness, kHandStiffness,
-      kMaxPressureKpa, kTimeConstant, kVentTimeConstant, kHysteresis,       kHysteresisLength};
+  static constexpr std::string_view kRestLength = "rest_length";                  // L0 [m], required
+  static constexpr std::string_view kRadius = "r0";                               // [m] constant fPAM, with eps_max
+  static constexpr std::string_view kMaxContraction = "eps_max";                  //
+  static constexpr std::string_view kTablePressureKpa = "table_pressure_kpa";     // per-pressure fPAM: three lists
+  static constexpr std::string_view kTableRadius = "table_r0";                    // [m]
+  static constexpr std::string_view kTableMaxContraction = "table_eps_max";       //
+  static constexpr std::string_view kElasticModulus = "elastic_modulus";          // E [Pa], default 9.06e6
+  static constexpr std::string_view kThickness = "thickness";                     // t [m], default 0.08e-3
+  static constexpr std::string_view kElasticOnset = "epsilon0";                   // default 0.153
+  static constexpr std::string_view kElasticCurvature = "elastic_curvature";      // kappa, default 0 (linear fabric)
+  static constexpr std::string_view kStretch = "stretch";                         // none | oneshot | selfconsistent
+  static constexpr std::string_view kForearmStiffness = "K1";                     // [N/m^2], |K1| used
+  static constexpr std::string_view kHandStiffness = "K2";                        // [N/m^2], |K2| used
+  static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";         // default 137
+  static constexpr std::string_view kTimeConstant = "time_constant";              // regulator [s], default 0.1
+  static constexpr std::string_view kVentTimeConstant = "vent_time_constant";     // while venting [s], default 0 (same)
+  static constexpr std::string_view kHysteresis = "hysteresis";                   // h, default 0 (none)
+  static constexpr std::string_view kHysteresisLength = "hysteresis_length";      // l_h [m], default 0.002
+  static constexpr std::string_view kHysteresisFriction = "hysteresis_friction";  // F_0 [N], default 0
+  static constexpr std::string_view kHysteresisPressureFriction = "hysteresis_pressure_friction";  // mu, default 0
+  static constexpr std::array<std::string_view, 20> kAttributes = {kRestLength,
+                                                                   kRadius,
+                                                                   kMaxContraction,
+                                                                   kTablePressureKpa,
+                                                                   kTableRadius,
+                                                                   kTableMaxContraction,
+                                                                   kElasticModulus,
+                                                                   kThickness,
+                                                                   kElasticOnset,
+                                                                   kElasticCurvature,
+                                                                   kStretch,
+                                                                   kForearmStiffness,
+                                                                   kHandStiffness,
+                                                                   kMaxPressureKpa,
+                                                                   kTimeConstant,
+                                                                   kVentTimeConstant,
+                                                                   kHysteresis,
+                                                                   kHysteresisLength,
+                                                                   kHysteresisFriction,
+                                                                   kHysteresisPressureFriction};
 
   // A muscle with hysteresis (physics/fpam_hysteresis.h) has a second state, its branch s. MuJoCo 3 would give the
   // plugin two activations; MuJoCo 2.2.2 gives an actuator one, so the state is the activation of a companion

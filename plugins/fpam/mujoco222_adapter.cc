@@ -148,9 +148,13 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
     const bool fpam = config->plugin_name() == FpamActuator::kPluginName;
     const bool state = config->plugin_name() == FpamConfig::kHysteresisStatePlugin;
     if (!fpam && !state) continue;
-    if (m->actuator_dyntype[id] != mjDYN_USER || m->actuator_gaintype[id] != mjGAIN_USER ||
-        m->actuator_biastype[id] != mjBIAS_USER) {
-      return fail(id, config->plugin_name() + " needs dyntype, gaintype and biastype 'user'");
+    // The force is not linear in the activation: a gain of 0, fixed (MuJoCo then calls no gain hook, which the
+    // plugin's cost is measured with, `softwrist bench sim`) or from the user hook, which returns 0.
+    const bool zero_gain = m->actuator_gaintype[id] == mjGAIN_USER ||
+                           (m->actuator_gaintype[id] == mjGAIN_FIXED && m->actuator_gainprm[id * mjNGAIN] == 0.0);
+    if (m->actuator_dyntype[id] != mjDYN_USER || m->actuator_biastype[id] != mjBIAS_USER || !zero_gain) {
+      return fail(id, config->plugin_name() +
+                          " needs dyntype and biastype 'user', and gaintype 'user' or 'fixed' with gainprm 0");
     }
     if (state) continue;  // paired with its fPAM below
     auto actuator = FpamActuator::Create(*config, actuator_name(m, id), &message);

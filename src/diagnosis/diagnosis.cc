@@ -429,6 +429,27 @@ void decide_beyond_tolerances(Diagnosis& d, const DiagnosisOptions& options) {
   }
 }
 
+// An effect named for a gap that drifts between the repetitions of a condition (drift.h) is not the cause: a constant
+// property of the device cannot close a gap that changes over the session.
+void unexplained_where_it_drifts(Diagnosis& d) {
+  if (d.verdict == "none" || d.verdict == "unexplained") return;
+  std::vector<std::string> drifting;
+  for (const TrialDrift& t : d.drift) {
+    if (!t.significant) continue;
+    drifting.push_back(
+        fmt::format("{}: repetition {} reads {:+.2f} noise units from repetition {} over {} conditions "
+                    "(t = {:.1f})",
+                    t.experiment, t.last_repetition, t.shift, t.first_repetition, t.conditions, t.t));
+  }
+  if (drifting.empty()) return;
+  d.reason = fmt::format(
+      "the gap drifts over the session, which no constant property of the device explains (a fabric that creeps, a "
+      "sensor that warms up, a mount that slips): {}; as fitted, {}",
+      fmt::join(drifting, "; "), d.reason);
+  d.verdict = "unexplained";
+  d.also_effects.clear();
+}
+
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   const bool any_significant =
       std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
@@ -511,6 +532,8 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   decide_verdict(d, options);
+  d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
+  unexplained_where_it_drifts(d);
   return d;
 }
 

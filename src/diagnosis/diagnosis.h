@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "diagnosis/drift.h"
 #include "diagnosis/effects.h"
 #include "diagnosis/localization.h"
 #include "diagnosis/real_data.h"
@@ -32,7 +33,7 @@ struct DiagnosisOptions {
   int jobs = 2;                   // effects fitted in parallel
   int bootstrap = 200;            // resamples of the held-out units
   std::uint64_t seed = 1;
-  int max_evaluations = 50;         // per fit, after the start grid
+  int max_evaluations = 50;         // per fit of up to two parameters, after the start grid; 15 more per further one
   double alpha = 0.01;              // significance of the gap tests (before Bonferroni)
   double parameter_penalty = 0.03;  // subtracted from an effect's shrink fraction per fitted parameter when ranking
   double min_gain = 0.1;            // an effect joins the combination if it cuts the held-out error by this fraction
@@ -169,6 +170,9 @@ struct Diagnosis {
   // holds out two pressure levels): where not, an effect's cut is weighed without its interval.
   bool interval_informative = true;
   std::vector<TrialGap> trials;
+  // Per trial with repetitions: whether the corrected model's residual drifts from the first to the last (drift.h).
+  // A drift that a constant effect cannot close makes the verdict `unexplained`.
+  std::vector<TrialDrift> drift;
   ToleranceFit tolerance;  // the nominal within its tolerances: what decides which trials have a gap
   std::vector<LocalizationEntry> localization;
   std::vector<FileProblem> problems;

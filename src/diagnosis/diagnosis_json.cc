@@ -50,6 +50,31 @@ nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b, bool r
   return j;
 }
 
+nlohmann::json trial_json(const TrialGap& t) {
+  return {{"experiment", t.experiment},
+          {"kind", to_string(t.kind)},
+          {"unit", t.unit},
+          {"noise", t.noise},
+          {"noise_source", t.noise_source},
+          {"rms_nominal", t.rms_nominal},
+          {"rms_corrected", t.rms_corrected},
+          {"p_value", t.p_value},
+          {"significant", t.significant},
+          {"excess_nominal", t.excess_nominal},
+          {"excess_corrected", t.excess_corrected},
+          {"excess_within_tolerance", t.excess_within_tolerance},
+          {"gap", t.gap},
+          {"remaining_significant", t.remaining_significant},
+          {"points", t.points}};
+}
+
+nlohmann::json drift_json(const TrialDrift& t) {
+  return {{"experiment", t.experiment},           {"first_repetition", t.first_repetition},
+          {"last_repetition", t.last_repetition}, {"conditions", t.conditions},
+          {"shift_noise_units", t.shift},         {"t", t.t},
+          {"significant", t.significant}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
@@ -110,23 +135,9 @@ nlohmann::json to_json(const Diagnosis& d) {
     j["localization"].push_back(entry);
   }
   j["trials"] = nlohmann::json::array();
-  for (const auto& t : d.trials) {
-    j["trials"].push_back({{"experiment", t.experiment},
-                           {"kind", to_string(t.kind)},
-                           {"unit", t.unit},
-                           {"noise", t.noise},
-                           {"noise_source", t.noise_source},
-                           {"rms_nominal", t.rms_nominal},
-                           {"rms_corrected", t.rms_corrected},
-                           {"p_value", t.p_value},
-                           {"significant", t.significant},
-                           {"excess_nominal", t.excess_nominal},
-                           {"excess_corrected", t.excess_corrected},
-                           {"excess_within_tolerance", t.excess_within_tolerance},
-                           {"gap", t.gap},
-                           {"remaining_significant", t.remaining_significant},
-                           {"points", t.points}});
-  }
+  for (const auto& t : d.trials) j["trials"].push_back(trial_json(t));
+  j["drift"] = nlohmann::json::array();
+  for (const auto& t : d.drift) j["drift"].push_back(drift_json(t));
   j["skipped"] = nlohmann::json::array();
   for (const auto& p : d.problems) j["skipped"].push_back({{"file", p.file}, {"reason", p.reason}});
   return j;

@@ -96,6 +96,7 @@ nlohmann::json write_corrected_models(const Diagnosis& d, const fs::path& out, c
   not_held(units::rad_to_deg(v.imu_offset_fe), "IMU offset, flexion/extension [deg]");
   not_held(units::rad_to_deg(v.imu_offset_ur), "IMU offset, ulnar/radial [deg]");
   not_held(v.imu_latency, "IMU latency [s]");
+  not_held(units::rad_to_deg(v.imu_axis_roll), "IMU axes turned about the forearm [deg]");
   return info;
 }
 

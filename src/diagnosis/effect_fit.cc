@@ -23,8 +23,20 @@ std::vector<double> values_of(const EffectSpec& spec, std::span<const double> u)
 }
 
 // The coarse start grid in the unit cube (the search is local): one parameter, five levels; two or three, the
-// corners and centre of the 3^n grid (sum of indices even). In the order they are tried.
+// corners and centre of the 3^n grid (sum of indices even); four or more, the centre and each parameter at 0.2 and
+// 0.8 with the others central (2n + 1 points: the even 3^n grid has 41 at n = 4, each a replay of every trial). In
+// the order they are tried.
 std::vector<std::vector<double>> start_grid(std::size_t n) {
+  if (n >= 4) {
+    std::vector<std::vector<double>> grid{std::vector<double>(n, 0.5)};
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const double level : {0.2, 0.8}) {
+        grid.push_back(std::vector<double>(n, 0.5));
+        grid.back()[i] = level;
+      }
+    }
+    return grid;
+  }
   const std::vector<double> levels =
       n == 1 ? std::vector<double>{0.05, 0.25, 0.5, 0.75, 0.95} : std::vector<double>{0.2, 0.5, 0.8};
   std::vector<std::vector<double>> grid;
@@ -132,7 +144,9 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   const std::vector<double> start = fit_start(id, base.variant.device);
   std::vector<double> start_u(start.size());
   for (std::size_t i = 0; i < start.size(); ++i) start_u[i] = spec.parameters[i].to_unit(start[i]);
-  const SearchedPoint searched = search_unit_cube(objective, std::move(start_u), options.max_evaluations);
+  // BOBYQA's model of n parameters needs 2n + 1 points before its first step: a larger effect gets a larger budget.
+  const int budget = options.max_evaluations + 15 * std::max(0, static_cast<int>(start_u.size()) - 2);
+  const SearchedPoint searched = search_unit_cube(objective, std::move(start_u), budget);
   fit.values = values_of(spec, searched.u);
   fit.params = describe_values(id, fit.values, nominal);
   fit.train_error_after = searched.training_error;

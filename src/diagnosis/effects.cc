@@ -6,6 +6,7 @@
 
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
+#include "physics/plausible_ranges.h"
 #include "physics/units.h"
 
 namespace softwrist::diagnosis {
@@ -25,8 +26,13 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kFpamParams,
        "fpam_params",
-       "the fPAM's r0 scaled and eps_max shifted at every pressure of its table (Eqn. force)",
-       {{"r0_scale", 0.7, 1.3, false, 1.0}, {"eps_max_shift", -0.08, 0.08, false, 0.0}},
+       "the fPAM's r0 scaled and eps_max shifted at every pressure of its table, and its fabric stiffer or softer "
+       "(E t scaled) and stiffening as it is stretched (the J-shaped pull of the paper's 0 kPa tensile curve: "
+       "curvature kappa of the fabric-elasticity term, physics/fpam_parameters.h)",
+       {{"r0_scale", 0.7, 1.3, false, 1.0},
+        {"eps_max_shift", -0.08, 0.08, false, 0.0},
+        {"fabric_stiffness_scale", 0.25, 10.0, true, 1.0},
+        {"fabric_curvature", 0.0, 50.0, false, 0.0}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
       {EffectId::kRegulatorLag,
        "regulator_lag",
@@ -38,10 +44,15 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTrajectory}},
       {EffectId::kHysteresis,
        "hysteresis",
-       "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading): F (1 +- h), on the "
-       "tensile rig, at a torque sweep's held angles reached from either side (the log's order), and as a state of "
-       "the muscles' force in MuJoCo (physics/fpam_hysteresis.h: Dahl's model) in the range of motion and trajectories",
-       {{"fraction", 0.0, 0.4, false, 0.0}},
+       "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading), by a part of its "
+       "pull and a dry friction that grows with pressure, F + s (h F + F_0 + mu pi r0^2 P), its branch s turning "
+       "over a transition length (physics/fpam_hysteresis.h: Dahl's model): along the tensile rig's path, at a "
+       "torque sweep's held angles reached from either side (the log's order), and as a state of the muscles' force "
+       "in MuJoCo in the range of motion and trajectories",
+       {{"fraction", 0.0, 0.4, false, 0.0},
+        {"friction_n", 0.0, 10.0, false, 0.0},
+        {"pressure_friction", 0.0, 0.2, false, 0.0},
+        {"transition_length_mm", 0.5, 20.0, true, 2.0}},
        {K::kTensile, K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kWrapGeometry,
        "wrap_geometry",
@@ -58,10 +69,12 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},  // sweeps whose reading includes the relaxed wrist
       {EffectId::kImuBias,
        "imu_bias",
-       "the IMU pair's angles carry an offset and arrive late",
+       "the IMU pair's angles carry an offset, arrive late, and are turned about the forearm's axis (an IMU "
+       "strapped rolled on the forearm reads flexion partly as deviation and the other way round)",
        {{"offset_fe_deg", -10.0, 10.0, false, 0.0},
         {"offset_ur_deg", -10.0, 10.0, false, 0.0},
-        {"latency_s", 0.0, 0.2, false, 0.0}},
+        {"latency_s", 0.0, 0.5, false, 0.0},
+        {"axis_roll_deg", -30.0, 30.0, false, 0.0}},
        {K::kTrajectory}},
   };
 }
@@ -137,6 +150,11 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
             std::clamp(row.max_contraction + values[1], 0.01, physics::max_contraction_upper_bound() - 1e-6);
       }
       device.fpam = device.fpam.with_rows(std::move(rows));
+      physics::FabricProperties fabric = device.fpam.fabric();
+      fabric.elastic_modulus *= values[2];
+      fabric.elastic_curvature =
+          std::min(fabric.elastic_curvature + values[3], physics::plausible::kMaxElasticCurvature);
+      device.fpam = device.fpam.with_fabric(fabric);
       break;
     }
     case EffectId::kRegulatorLag:
@@ -157,7 +175,10 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       device.wrist.limit_stiffening.torque += values[2];
       break;
     case EffectId::kHysteresis:  // the fabric's (physics/fpam_hysteresis.h), on every data kind the force acts in
-      device.hysteresis.fraction = values[0];
+      device.hysteresis = {.fraction = values[0],
+                           .friction_force = values[1],
+                           .pressure_friction = values[2],
+                           .transition_length = units::mm_to_m(values[3])};
       break;
     case EffectId::kImuBias:
       break;
@@ -176,6 +197,7 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
     variant.imu_offset_fe = units::deg_to_rad(values[0]);
     variant.imu_offset_ur = units::deg_to_rad(values[1]);
     variant.imu_latency = values[2];
+    variant.imu_axis_roll = units::deg_to_rad(values[3]);
   }
 }
 
@@ -190,6 +212,10 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
     start[0] = nominal.regulator.time_constant;
     if (nominal.regulator.vent_time_constant > 0.0)
       start[2] = nominal.regulator.vent_time_constant / nominal.regulator.time_constant;
+  }
+  if (id == EffectId::kHysteresis && nominal.hysteresis.active()) {
+    const physics::FpamHysteresis& h = nominal.hysteresis;
+    start = {h.fraction, h.friction_force, h.pressure_friction, units::m_to_mm(h.transition_length)};
   }
   if (id == EffectId::kMountStretch && nominal.stretch_mode != physics::StretchMode::kNone) {
     const double c = 1.0 / std::sqrt(std::abs(nominal.mount_stiffness.forearm)) +

@@ -54,6 +54,7 @@ struct ModelVariant {
   double regulator_dead_time = 0.0;                 // [s] commands reach the regulators this late
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
   double imu_latency = 0.0;                         // [s] the measured angles are this old
+  double imu_axis_roll = 0.0;  // [rad] the angles' axes turned about the forearm: fe' = c fe - s ur, ur' = s fe + c ur
   // Each regulator's pressure monitor reads gain x pressure + offset (the tolerance fit's calibration; exact here).
   std::array<double, 4> monitor_gain{1.0, 1.0, 1.0, 1.0};
   std::array<double, 4> monitor_offset{};  // [Pa]

@@ -156,6 +156,7 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa), s.motion});
       point.unit = units({muscle, cluster[k]});
       point.heldout = cluster[k] % 2 == 1;  // every other held angle
+      point.repetition = s.repetition;
     }
   }
   return p;
@@ -171,7 +172,8 @@ PreparedTrial prepare_rom(const Trial& trial) {
     Point point{.measured = rad_to_deg(r.limit),
                 .angle_deg = rad_to_deg(r.limit),
                 .pressure_kpa = pa_to_kpa(r.pressure),
-                .muscle = r.muscle};
+                .muscle = r.muscle,
+                .repetition = r.repetition};
     point.group = groups({r.muscle, std::lround(point.pressure_kpa)});
     point.unit = units({r.muscle, r.repetition});
     // Repeated trials: hold out every other repetition; a single one: the extensor and radial muscles.
@@ -192,8 +194,11 @@ PreparedTrial prepare_tensile(const Trial& trial) {
   for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
     const TensilePoint& t = trial.tensile[i];
     const long bin = std::lround(t.contraction / 0.005);
-    Point point{
-        .measured = t.force, .pressure_kpa = pressures[i], .contraction = t.contraction, .motion = t.loading ? 1 : -1};
+    Point point{.measured = t.force,
+                .pressure_kpa = pressures[i],
+                .contraction = t.contraction,
+                .motion = t.loading ? 1 : -1,
+                .repetition = t.cycle};
     point.group = groups({level[i], t.loading, bin});
     // Several pressures: hold out every other pressure; one: every other contraction step.
     point.unit = levels > 1 ? level[i] : static_cast<int>(bin);
@@ -428,16 +433,18 @@ namespace {
 // What a torque sweep's sensor reads at one point (conventions.h), positive in the muscle's own direction: the
 // muscle's torque, plus the relaxed wrist's and the hand's weight's where the log says the reading includes them, or
 // less the same angle's reading at 0 kPa.
-// Hysteresis (physics/fpam_hysteresis.h) puts the muscle's pull on its lengthening branch (x (1 + h)) where it was
-// stretched into the held angle and on its shortening branch (x (1 - h)) where it shortened into it, as on the
-// tensile rig; the torque is the pull times its moment arm.
+// Hysteresis (physics/fpam_hysteresis.h) puts the muscle's pull on its lengthening branch (s = +1) where it was
+// stretched into the held angle and on its shortening branch (s = -1) where it shortened into it (a held angle is
+// reached over more than the transition length); the torque is the pull times its moment arm.
 double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& wrist, const SweepPoint& s,
                      const Conventions& c, const physics::FpamHysteresis& hysteresis) {
   const double direction = physics::direction_of(s.muscle);
   const double branch = -direction * s.motion;  // the muscle lengthens as the wrist moves against its own direction
   const auto torque_at = [&](double pressure) {
-    return physics::hysteretic_force(hysteresis, physics::muscle_state(muscle, direction * s.angle, pressure).torque,
-                                     branch);
+    const physics::MuscleState state = physics::muscle_state(muscle, direction * s.angle, pressure);
+    if (!hysteresis.active() || branch == 0.0 || state.force <= 0.0) return state.torque;
+    const double end_force = physics::pressure_end_force(pressure, muscle.fpam.at_pressure(pressure));
+    return state.torque * physics::hysteretic_force(hysteresis, state.force, branch, end_force) / state.force;
   };
   const double torque = torque_at(s.pressure);
   if (c.torque.baseline_subtracted) return torque - torque_at(0.0);
@@ -459,19 +466,44 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
       return predict_sweep(trial, variant.device_for(trial));
     case TrialKind::kRangeOfMotion:
       return predict_rom(trial, variant.device_for(trial));
-    case TrialKind::kTensile: {
-      const sim::DeviceDescription& device = variant.device_for(trial);
-      std::vector<double> out;
-      for (const TensilePoint& t : trial.tensile) {
-        out.push_back(physics::hysteretic_force(
-            device.hysteresis, physics::fpam_force(device.fpam, t.pressure, t.contraction), t.loading ? 1.0 : -1.0));
-      }
-      return out;
-    }
+    case TrialKind::kTensile:
+      return predict_tensile(trial, variant.device_for(trial));
     case TrialKind::kTrajectory:
       return predict_trajectory(prepared, variant, training_only);
   }
   return {};
+}
+
+// The tensile rig pulls the fPAM along the log's rows in their order: the hysteresis state (physics/fpam_hysteresis.h)
+// follows the path from the first row's branch (the rig has cycled before), the fPAM on the rig taken as the exosuit's
+// flexor (its L0 turns a step of contraction into one of length), so a branch turns over the transition length after
+// each reversal instead of at once.
+std::vector<double> ReplayEngine::predict_tensile(const Trial& trial, const sim::DeviceDescription& device) {
+  const physics::FpamHysteresis& hysteresis = device.hysteresis;
+  const double rest_length = device.muscles[physics::kFlexor].rest_length;
+  std::vector<double> out;
+  double state = 0.0, previous = 0.0;
+  bool previous_loading = true;
+  for (std::size_t i = 0; i < trial.tensile.size(); ++i) {
+    const TensilePoint& t = trial.tensile[i];
+    const double force = physics::fpam_force(device.fpam, t.pressure, t.contraction);
+    if (!hysteresis.active()) {
+      out.push_back(force);
+      continue;
+    }
+    // A row that moves against its own direction flag (the next cycle, or rows not in the rig's order), or that
+    // repeats the previous row's contraction under the other flag (a log binned by contraction records the reversal
+    // on both branches), starts again from its flag's branch.
+    const double lengthening = (previous - t.contraction) * rest_length;
+    const bool along_the_path =
+        i > 0 && (lengthening == 0.0 ? t.loading == previous_loading : (lengthening > 0.0) == t.loading);
+    state = along_the_path ? physics::hysteresis_state_after(hysteresis, state, lengthening) : (t.loading ? 1.0 : -1.0);
+    previous = t.contraction;
+    previous_loading = t.loading;
+    out.push_back(physics::hysteretic_force(
+        hysteresis, force, state, physics::pressure_end_force(t.pressure, device.fpam.at_pressure(t.pressure))));
+  }
+  return out;
 }
 
 std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const {
@@ -536,8 +568,11 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
                pa_to_kpa(variant.monitor_offset[m]);
       continue;
     }
-    out[i] = point.channel == 0 ? rad_to_deg(imu_reading(simulated->fe, t) - zero_fe + variant.imu_offset_fe)
-                                : rad_to_deg(imu_reading(simulated->ur, t) - zero_ur + variant.imu_offset_ur);
+    // The IMU pair's axes turned by imu_axis_roll about the forearm (effects.h) mix the two angles.
+    const double fe = imu_reading(simulated->fe, t) - zero_fe, ur = imu_reading(simulated->ur, t) - zero_ur;
+    const double c = std::cos(variant.imu_axis_roll), s = std::sin(variant.imu_axis_roll);
+    out[i] = point.channel == 0 ? rad_to_deg(c * fe - s * ur + variant.imu_offset_fe)
+                                : rad_to_deg(s * fe + c * ur + variant.imu_offset_ur);
   }
   return out;
 }

@@ -47,6 +47,7 @@ struct Point {
   int channel = -1;  // trajectories: 0 flexion/extension, 1 ulnar/radial; 2 + muscle: its measured pressure
   int motion = 0;    // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
   double t_s = NAN;
+  int repetition = -1;  // the same condition measured again later (tensile cycle, sweep or range-of-motion repetition)
 };
 
 struct PreparedTrial {
@@ -96,6 +97,7 @@ class ReplayEngine {
                                           const std::function<std::shared_ptr<const Simulated>()>& compute);
   sim::Model load_model(const sim::DeviceDescription& device, const Trial& trial) const;
   std::vector<double> predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const;
+  static std::vector<double> predict_tensile(const Trial& trial, const sim::DeviceDescription& device);
   std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device);
   std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
                                          bool training_only);

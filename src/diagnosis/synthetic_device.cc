@@ -180,8 +180,10 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
       const auto cmd = command_at(std::floor(t / loop + 1e-9) * loop);
       std::vector<std::string> row = {"0", format_number(t)};
       for (double p : cmd) row.push_back(format_number(p));
-      row.push_back(format_number(rad_to_deg(angles[0]) + real.imu_offset_fe_deg + plan.noise.imu_deg * normal(rng)));
-      row.push_back(format_number(rad_to_deg(angles[1]) + real.imu_offset_ur_deg + plan.noise.imu_deg * normal(rng)));
+      const double c = std::cos(deg_to_rad(real.imu_axis_roll_deg)), s = std::sin(deg_to_rad(real.imu_axis_roll_deg));
+      const double fe = c * angles[0] - s * angles[1], ur = s * angles[0] + c * angles[1];
+      row.push_back(format_number(rad_to_deg(fe) + real.imu_offset_fe_deg + plan.noise.imu_deg * normal(rng)));
+      row.push_back(format_number(rad_to_deg(ur) + real.imu_offset_ur_deg + plan.noise.imu_deg * normal(rng)));
       if (plan.measured_pressures) {
         for (std::size_t m = 0; m < 4; ++m) {
           const double p = wrist.regulated_pressure_kpa(static_cast<sim::MuscleIndex>(m));

@@ -27,6 +27,7 @@ struct SyntheticDevice {
   double imu_offset_fe_deg = 0.0, imu_offset_ur_deg = 0.0;
   double imu_latency = 0.0;         // [s]
   double imu_latency_jitter = 0.0;  // [s] each IMU reading is late by latency + U(-jitter, +jitter)
+  double imu_axis_roll_deg = 0.0;   // the IMU pair's axes turned about the forearm (ModelVariant::imu_axis_roll)
   double hysteresis = 0.0;          // tensile force x (1 +- h); in MuJoCo the fabric's hysteresis state, fraction h
   // Tensile force +- this fraction of the force at zero contraction at the same pressure (a friction that grows with
   // pressure rather than with the force).

@@ -22,17 +22,29 @@ double fiber_angle(double max_contraction) {
 FpamForceLaw::FpamForceLaw(double pressure, const FpamCoefficients& coefficients, const FabricProperties& fabric) {
   require_non_negative("pressure [Pa]", pressure);
   validate(coefficients);
+  prepare(pressure, coefficients, fabric);
+}
+
+FpamForceLaw FpamForceLaw::Prevalidated(double pressure, const FpamCoefficients& coefficients,
+                                        const FabricProperties& fabric) {
+  FpamForceLaw law;
+  law.prepare(pressure, coefficients, fabric);
+  return law;
+}
+
+void FpamForceLaw::prepare(double pressure, const FpamCoefficients& coefficients, const FabricProperties& fabric) {
   // Eqn. fiber_orientation substituted without trigonometry: it is cos^2(alpha_0) = 1 / (3 (1 - eps_max)^2), so
   // sin^2 = 1 - cos^2 and 3 / tan^2 = 3 cos^2 / sin^2 (fpam_force_test.cc checks this against fiber_angle()).
   const double one_minus = 1.0 - coefficients.max_contraction;
   const double cos2 = 1.0 / (3.0 * one_minus * one_minus);
   const double sin2 = 1.0 - cos2;
   const double r0 = coefficients.radius;
-  mckibben_scale_ = std::numbers::pi * pressure * r0 * r0;
+  mckibben_scale_ = pressure_end_force(pressure, coefficients);
   three_over_tan2_ = 3.0 * cos2 / sin2;
   one_over_sin2_ = 1.0 / sin2;
   elastic_slope_ = fabric_elastic_slope(r0, fabric);
   elastic_onset_ = fabric.elastic_onset_contraction;
+  elastic_curvature_ = fabric.elastic_curvature;
 }
 
 double pressure_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients) {
@@ -42,7 +54,8 @@ double pressure_force(double pressure, double contraction_ratio, const FpamCoeff
 
 double fabric_elastic_force(double contraction_ratio, double radius, const FabricProperties& fabric) {
   require_finite("contraction_ratio", contraction_ratio);
-  return fabric_elastic_term(contraction_ratio, fabric_elastic_slope(radius, fabric), fabric.elastic_onset_contraction);
+  return fabric_elastic_term(contraction_ratio, fabric_elastic_slope(radius, fabric), fabric.elastic_onset_contraction,
+                             fabric.elastic_curvature);
 }
 
 double fpam_force(double pressure, double contraction_ratio, const FpamCoefficients& coefficients,

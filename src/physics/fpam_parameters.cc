@@ -22,6 +22,9 @@ void validate(const FabricProperties& fabric) {
   require(std::isfinite(fabric.elastic_onset_contraction) && fabric.elastic_onset_contraction >= 0.0 &&
               fabric.elastic_onset_contraction < 1.0,
           "elastic_onset_contraction epsilon_0", fabric.elastic_onset_contraction, "must lie in [0, 1)");
+  require(std::isfinite(fabric.elastic_curvature) && fabric.elastic_curvature >= 0.0 &&
+              fabric.elastic_curvature <= plausible::kMaxElasticCurvature,
+          "elastic_curvature kappa", fabric.elastic_curvature, "must lie in [0, 200] (e-folding over 0.5 % strain)");
 }
 
 void validate(const FpamCoefficients& coefficients) {
@@ -58,6 +61,10 @@ FpamParameters FpamParameters::Table(std::vector<FpamTableRow> rows, FabricPrope
 
 FpamParameters FpamParameters::with_rows(std::vector<FpamTableRow> rows) const {
   return FpamParameters(std::move(rows), fabric_);
+}
+
+FpamParameters FpamParameters::with_fabric(const FabricProperties& fabric) const {
+  return FpamParameters(rows_, fabric);
 }
 
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {

@@ -13,6 +13,11 @@ struct FabricProperties {
   double elastic_modulus = 9.06e6;           // E [Pa]
   double thickness = 0.08e-3;                // t [m]
   double elastic_onset_contraction = 0.153;  // epsilon_0: below it the stretched fabric pulls elastically
+  // kappa >= 0: the fabric stiffens as it is stretched, its pull 2 pi E t r0 (exp(kappa (eps_0 - eps)) - 1) / kappa
+  // (fpam_force.h); 0 is Eqn. force's linear term. The paper's tensile test at 0 kPa is J-shaped, and it fits that
+  // curve with an exponential (Section Tensile testing, Fig. TensileTest(a)); the linear term is its model's.
+  double elastic_curvature = 0.0;
+  bool operator==(const FabricProperties&) const = default;
 };
 
 // r0 and eps_max at one pressure.
@@ -40,6 +45,8 @@ class FpamParameters {
   // The same fabric with other rows (edited copies of rows(); one row is a constant fPAM). The one way to change an
   // fPAM's r0 or eps_max, validated as a new table is.
   FpamParameters with_rows(std::vector<FpamTableRow> rows) const;
+  // The same rows with another fabric, validated.
+  FpamParameters with_fabric(const FabricProperties& fabric) const;
 
   FpamCoefficients at_pressure(double pressure) const;
   const FabricProperties& fabric() const { return fabric_; }

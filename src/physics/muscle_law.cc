@@ -30,6 +30,7 @@ std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const Fp
   // ratio is epsilon_0 itself.
   const double u_onset = length > onset_length ? (length - onset_length) / c : 0.0;
   const bool elastic = length > onset_length && force_law(force_law.elastic_onset()) < u_onset * u_onset;
+  if (elastic && !force_law.elastic_is_linear()) return std::nullopt;  // a J-shaped fabric: the iterative solve
   const FpamForceLaw::Quadratic q = force_law.quadratic(elastic);
   const double a = q.c2 / (rest * rest), b = q.c1 / rest, d = q.c0;
   const double a2 = a * c * c - 1.0, a1 = -c * (2.0 * a * length + b), a0 = (a * length + b) * length + d;
@@ -46,10 +47,14 @@ std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const Fp
 }  // namespace
 
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length) {
+  return stretched_force(law, force_law, path_length, mount_compliance(law.mount_stiffness));
+}
+
+StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length,
+                               double compliance) {
   const double rest_length = law.rest_length;
   // Eqn. force's contraction ratio inline: L0 > 0 was validated, and the plugin's force must not throw into MuJoCo.
   const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
-  const double compliance = mount_compliance(law.mount_stiffness);
   if (law.stretch_mode == StretchMode::kSelfConsistent && std::isfinite(compliance) && compliance > 0.0 &&
       force_at_length(path_length) > 0.0) {
     if (auto solved = closed_form_stretch(law, force_law, path_length, compliance)) return *solved;

@@ -21,6 +21,9 @@ void validate(const MuscleLaw& law);
 // The pull [N] and the mounts' stretch at a mount-to-mount `path_length` [m], with the force law prepared for one
 // pressure from this law's fPAM (for loops over many lengths at one pressure). The law must have been validated.
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length);
+// The same with the mounts' compliance 1/sqrt(K1) + 1/sqrt(K2) (mount_stretch.h) worked out once by the caller.
+StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length,
+                               double compliance);
 // The same at `pressure` [Pa]; validates the law.
 StretchedForce stretched_force(const MuscleLaw& law, double path_length, double pressure);
 

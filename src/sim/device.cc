@@ -32,11 +32,37 @@ physics::FpamHysteresis read_hysteresis(Reader& fpam) {
   if (!(h.fraction >= 0.0 && h.fraction < 0.5))
     fpam.fail("hysteresis", fmt::format("must be >= 0 and < 0.5, got {}", h.fraction));
   h.transition_length = units::mm_to_m(fpam.positive("hysteresis_length_mm", units::m_to_mm(h.transition_length)));
+  h.friction_force = fpam.number("hysteresis_friction_n", h.friction_force);
+  if (!(h.friction_force >= 0.0))
+    fpam.fail("hysteresis_friction_n", fmt::format("must be >= 0 (N), got {}", h.friction_force));
+  h.pressure_friction = fpam.number("hysteresis_pressure_friction", h.pressure_friction);
+  if (!(h.pressure_friction >= 0.0 && h.pressure_friction < 1.0))
+    fpam.fail("hysteresis_pressure_friction", fmt::format("must be >= 0 and < 1, got {}", h.pressure_friction));
   return h;
+}
+
+// The fabric of Eqn. force's elastic term: optional "fabric" of "fpam", the paper's (FabricProperties' defaults)
+// unless given.
+physics::FabricProperties read_fabric(Reader& fpam) {
+  physics::FabricProperties fabric;
+  if (!fpam.has("fabric")) return fabric;
+  Reader f = fpam.child("fabric");
+  fabric.elastic_modulus = f.positive("elastic_modulus_mpa", fabric.elastic_modulus / 1e6) * 1e6;
+  fabric.thickness = units::mm_to_m(f.positive("thickness_mm", units::m_to_mm(fabric.thickness)));
+  fabric.elastic_onset_contraction = f.number("elastic_onset", fabric.elastic_onset_contraction);
+  fabric.elastic_curvature = f.number("elastic_curvature", fabric.elastic_curvature);
+  try {
+    physics::validate(fabric);
+  } catch (const physics::InvalidParameter& e) {
+    f.fail("", e.what());
+  }
+  f.finish();
+  return fabric;
 }
 
 physics::FpamParameters read_fpam(Reader fpam, physics::FpamHysteresis& hysteresis) {
   hysteresis = read_hysteresis(fpam);
+  const physics::FabricProperties fabric = read_fabric(fpam);
   if (fpam.has("table")) {
     const json& table = fpam.raw("table");
     if (!table.is_array() || table.empty()) fpam.fail("table", "must be a non-empty array of rows");
@@ -49,7 +75,7 @@ physics::FpamParameters read_fpam(Reader fpam, physics::FpamHysteresis& hysteres
     }
     fpam.finish();
     try {
-      return physics::FpamParameters::Table(rows);
+      return physics::FpamParameters::Table(rows, fabric);
     } catch (const physics::InvalidParameter& e) {
       fpam.fail("table", e.what());
     }
@@ -58,23 +84,34 @@ physics::FpamParameters read_fpam(Reader fpam, physics::FpamHysteresis& hysteres
   const double eps_max = fpam.number("eps_max");
   fpam.finish();
   try {
-    return physics::FpamParameters::Constant(r0, eps_max);
+    return physics::FpamParameters::Constant(r0, eps_max, fabric);
   } catch (const physics::InvalidParameter& e) {
     fpam.fail("", e.what());
   }
 }
 
 json fpam_to_json(const physics::FpamParameters& fpam) {
+  json out;
   if (fpam.is_constant()) {
-    return {{"r0_cm", m_to_cm(fpam.rows().front().radius)}, {"eps_max", fpam.rows().front().max_contraction}};
+    out = {{"r0_cm", m_to_cm(fpam.rows().front().radius)}, {"eps_max", fpam.rows().front().max_contraction}};
+  } else {
+    json rows = json::array();
+    for (const auto& row : fpam.rows()) {
+      rows.push_back({{"pressure_kpa", units::pa_to_kpa(row.pressure)},
+                      {"r0_cm", m_to_cm(row.radius)},
+                      {"eps_max", row.max_contraction}});
+    }
+    out = {{"table", rows}};
   }
-  json rows = json::array();
-  for (const auto& row : fpam.rows()) {
-    rows.push_back({{"pressure_kpa", units::pa_to_kpa(row.pressure)},
-                    {"r0_cm", m_to_cm(row.radius)},
-                    {"eps_max", row.max_contraction}});
+  // Only a fabric other than the paper's: every placement file so far has none (and the replays' caches key on it).
+  const physics::FabricProperties& fabric = fpam.fabric();
+  if (!(fabric == physics::FabricProperties{})) {
+    out["fabric"] = {{"elastic_modulus_mpa", fabric.elastic_modulus / 1e6},
+                     {"thickness_mm", units::m_to_mm(fabric.thickness)},
+                     {"elastic_onset", fabric.elastic_onset_contraction},
+                     {"elastic_curvature", fabric.elastic_curvature}};
   }
-  return {{"table", rows}};
+  return out;
 }
 
 }  // namespace
@@ -284,6 +321,8 @@ std::string device_to_json(const DeviceDescription& device) {
   if (device.hysteresis.active()) {  // only where the fabric is not the paper's static one
     root["fpam"]["hysteresis"] = device.hysteresis.fraction;
     root["fpam"]["hysteresis_length_mm"] = units::m_to_mm(device.hysteresis.transition_length);
+    root["fpam"]["hysteresis_friction_n"] = device.hysteresis.friction_force;
+    root["fpam"]["hysteresis_pressure_friction"] = device.hysteresis.pressure_friction;
   }
   if (w.limit_stiffening.torque > 0.0) {  // only where the wrist is not the paper's linear one
     root["wrist"]["limit_stiffening_nm"] = w.limit_stiffening.torque;

@@ -72,8 +72,9 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
       custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
                             plugin_config(device, m));
       actuators += fmt::format(
-          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"user\" gaintype=\"user\" biastype=\"user\" "
-          "ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 {1:.10g}\"/>\n",
+          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
+          "biastype=\"user\" ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 "
+          "{1:.10g}\"/>\n",
           name, max_kpa);
     } else {
       actuators += fmt::format("    <general name=\"{0}\" tendon=\"{0}\" gainprm=\"1\"/>\n", name);
@@ -85,8 +86,8 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
     custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
                           plugin::FpamConfig::kHysteresisStatePlugin);
     actuators += fmt::format(
-        "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"user\" biastype=\"user\" "
-        "actlimited=\"true\" actrange=\"-1 1\"/>\n",
+        "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
+        "biastype=\"user\" actlimited=\"true\" actrange=\"-1 1\"/>\n",
         name, kMuscleNames[i]);
   }
   return items;

@@ -98,6 +98,32 @@ TEST(FpamForce, ElasticTermVanishesAboveEpsilonZeroSoDeflatedMuscleIsSlack) {
   EXPECT_NEAR(fpam_force(fpam, 0.0, 0.0), fabric_elastic_force(0.0, 0.0123, fabric), 1e-12);
 }
 
+// The J-shaped fabric (FabricProperties::elastic_curvature, the paper's exponential fit of its 0 kPa tensile curve):
+// the same slope 2 pi E t r0 at the onset eps_0, stiffer as it is stretched further, slack above eps_0; the linear
+// term in the limit kappa -> 0, and a curvature outside [0, 200] refused by name.
+TEST(FpamForce, CurvedFabricKeepsItsOnsetSlopeAndStiffensTowardsFullStretch) {
+  const FabricProperties linear;
+  const FabricProperties curved{.elastic_curvature = 20.0};
+  const double r0 = 0.0123, slope = fabric_elastic_slope(r0, linear), eps0 = linear.elastic_onset_contraction;
+  EXPECT_EQ(fabric_elastic_force(0.16, r0, curved), 0.0);
+  EXPECT_NEAR(fabric_elastic_force(0.0, r0, curved), slope * std::expm1(20.0 * eps0) / 20.0, 1e-12);
+  EXPECT_NEAR((fabric_elastic_force(eps0 - 1e-6, r0, curved)) / 1e-6, slope, 1e-4 * slope);  // the onset's slope
+  EXPECT_GT(fabric_elastic_force(0.0, r0, curved), 5.0 * fabric_elastic_force(0.0, r0, linear));
+  const FabricProperties nearly{.elastic_curvature = 1e-9};
+  for (const double eps : {0.0, 0.05, 0.15})
+    EXPECT_NEAR(fabric_elastic_force(eps, r0, nearly), fabric_elastic_force(eps, r0, linear), 1e-9);
+  const auto fpam = FpamParameters::Constant(r0, 0.28, curved);
+  EXPECT_NEAR(fpam_force(fpam, 0.0, 0.02), fabric_elastic_force(0.02, r0, curved), 1e-12);
+  for (const double bad : {-1.0, 250.0, std::nan("")}) {
+    try {
+      validate(FabricProperties{.elastic_curvature = bad});
+      ADD_FAILURE() << bad;
+    } catch (const InvalidParameter& e) {
+      EXPECT_NE(std::string(e.what()).find("elastic_curvature"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(FpamForce, FallsMonotonicallyAsTheMuscleContracts) {
   const auto fpam = paper::tensile_fpam();
   for (double pressure : {34e3, 68e3, 103e3, 137e3}) {

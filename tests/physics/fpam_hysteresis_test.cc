@@ -45,12 +45,42 @@ TEST(FpamHysteresis, RateIndependentAndHeldAtRest) {
 
 // h = 0 is the paper's static law (Eqn. force) on either branch; a full loop's width at one length is 2 h F.
 TEST(FpamHysteresis, StaticLawAtZeroAndLoopWidthTwoHF) {
-  const double force = 123.4;
-  for (const double s : {-1.0, 0.0, 0.7, 1.0}) EXPECT_EQ(hysteretic_force({.fraction = 0.0}, force, s), force);
+  const double force = 123.4, end_force = 70.0;
+  for (const double s : {-1.0, 0.0, 0.7, 1.0})
+    EXPECT_EQ(hysteretic_force({.fraction = 0.0}, force, s, end_force), force);
   const FpamHysteresis h{.fraction = 0.15};
-  EXPECT_NEAR(hysteretic_force(h, force, 1.0) - hysteretic_force(h, force, -1.0), 2.0 * 0.15 * force, 1e-12);
+  EXPECT_NEAR(hysteretic_force(h, force, 1.0, end_force) - hysteretic_force(h, force, -1.0, end_force),
+              2.0 * 0.15 * force, 1e-12);
   // An explicit step that overshoots the bound is clamped.
-  EXPECT_EQ(hysteretic_force(h, force, 1.2), hysteretic_force(h, force, 1.0));
+  EXPECT_EQ(hysteretic_force(h, force, 1.2, end_force), hysteretic_force(h, force, 1.0, end_force));
+}
+
+// The dry friction (Tondu & Lopez 2000: a level that grows with pressure) adds F_0 + mu pi r0^2 P to the loading
+// branch and takes it from the unloading one, whatever the pull; it never exceeds the pull, so a slack muscle (F = 0)
+// pulls nothing on either branch and the unloading branch reaches zero, never below.
+TEST(FpamHysteresis, DryFrictionGrowsWithPressureAndIsBoundedByThePull) {
+  const FpamHysteresis h{.friction_force = 1.5, .pressure_friction = 0.05};
+  const double end_force = 80.0;  // pi r0^2 P [N]
+  EXPECT_TRUE(h.active());
+  EXPECT_NEAR(hysteretic_force(h, 60.0, 1.0, end_force), 60.0 + 1.5 + 0.05 * 80.0, 1e-12);
+  EXPECT_NEAR(hysteretic_force(h, 60.0, -1.0, end_force), 60.0 - 5.5, 1e-12);
+  EXPECT_NEAR(hysteretic_force(h, 60.0, 0.5, end_force), 60.0 + 0.5 * 5.5, 1e-12);
+  // The same level at a tenth of the pull: the loop keeps its absolute width (unlike h F).
+  EXPECT_NEAR(hysteretic_force(h, 20.0, 1.0, end_force) - hysteretic_force(h, 20.0, -1.0, end_force), 11.0, 1e-12);
+  EXPECT_EQ(hysteretic_force(h, 0.0, 1.0, end_force), 0.0);
+  EXPECT_NEAR(hysteretic_force(h, 3.0, 1.0, end_force), 6.0, 1e-12);
+  EXPECT_EQ(hysteretic_force(h, 3.0, -1.0, end_force), 0.0);
+}
+
+// A rig that moves in steps advances the state by Dahl's closed form, the same as the rate law integrated.
+TEST(FpamHysteresis, StateAfterAStepIsTheIntegratedRateLaw) {
+  const FpamHysteresis h{.fraction = 0.1, .transition_length = 0.003};
+  for (const double x : {0.001, 0.004, -0.002, -0.009}) {
+    for (const double s0 : {-1.0, -0.2, 0.4, 1.0}) {
+      EXPECT_NEAR(hysteresis_state_after(h, s0, x), integrate(h, s0, x), 2e-3) << x << " " << s0;
+    }
+  }
+  EXPECT_EQ(hysteresis_state_after(h, 0.3, 0.0), 0.3);
 }
 
 TEST(FpamHysteresis, ValidateNamesTheField) {
@@ -64,6 +94,9 @@ TEST(FpamHysteresis, ValidateNamesTheField) {
     }
   }
   EXPECT_THROW(validate(FpamHysteresis{.fraction = 0.1, .transition_length = 0.0}), InvalidParameter);
+  EXPECT_THROW(validate(FpamHysteresis{.friction_force = -1.0}), InvalidParameter);
+  EXPECT_THROW(validate(FpamHysteresis{.pressure_friction = 1.0}), InvalidParameter);
+  EXPECT_THROW(validate(FpamHysteresis{.pressure_friction = std::nan("")}), InvalidParameter);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include "physics/muscle_law.h"
 
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "physics/errors.h"
@@ -58,6 +60,23 @@ TEST(MuscleLaw, SelfConsistentStretchInClosedFormIsTheIterativeRoot) {
         EXPECT_NEAR(closed.mount_stretch, iterative.mount_stretch, 1e-10) << pressure << " " << length;
         EXPECT_NEAR(closed.force, at_length(length - closed.mount_stretch), 1e-9 * (1.0 + closed.force));
       }
+    }
+  }
+}
+
+// With a J-shaped fabric the law is no quadratic where the fabric pulls: the self-consistent stretch falls back to the
+// iterative solve and still satisfies F = f(L - c sqrt(F)) (Eqn. fabric_stretching).
+TEST(MuscleLaw, SelfConsistentStretchWithACurvedFabricSatisfiesItsEquation) {
+  MuscleLaw law = paper::torque_measurement_flexor(StretchMode::kSelfConsistent);
+  std::vector<FpamTableRow> rows = law.fpam.rows();
+  law.fpam = FpamParameters::Table(rows, FabricProperties{.elastic_curvature = 25.0});
+  for (const double pressure : {0.0, 68e3, 137e3}) {
+    const FpamForceLaw force_law(pressure, law.fpam.at_pressure(pressure), law.fpam.fabric());
+    const auto at_length = [&](double l) { return force_law((law.rest_length - l) / law.rest_length); };
+    for (double length = 0.28; length <= 0.40; length += 0.005) {
+      const StretchedForce s = stretched_force(law, force_law, length);
+      EXPECT_NEAR(s.force, at_length(length - s.mount_stretch), 1e-6 * (1.0 + s.force)) << pressure << " " << length;
+      EXPECT_NEAR(s.mount_stretch, total_mount_stretch(s.force, law.mount_stiffness), 1e-9);
     }
   }
 }

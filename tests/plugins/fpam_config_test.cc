@@ -23,6 +23,7 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
   EXPECT_DOUBLE_EQ(a.law.fpam.fabric().elastic_modulus, b.law.fpam.fabric().elastic_modulus);
   EXPECT_DOUBLE_EQ(a.law.fpam.fabric().thickness, b.law.fpam.fabric().thickness);
   EXPECT_DOUBLE_EQ(a.law.fpam.fabric().elastic_onset_contraction, b.law.fpam.fabric().elastic_onset_contraction);
+  EXPECT_DOUBLE_EQ(a.law.fpam.fabric().elastic_curvature, b.law.fpam.fabric().elastic_curvature);
   EXPECT_DOUBLE_EQ(a.law.rest_length, b.law.rest_length);
   EXPECT_EQ(a.law.stretch_mode, b.law.stretch_mode);
   if (a.law.stretch_mode != physics::StretchMode::kNone) {
@@ -33,6 +34,8 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
   EXPECT_DOUBLE_EQ(a.time_constant, b.time_constant);
   EXPECT_DOUBLE_EQ(a.hysteresis.fraction, b.hysteresis.fraction);
   EXPECT_DOUBLE_EQ(a.hysteresis.transition_length, b.hysteresis.transition_length);
+  EXPECT_DOUBLE_EQ(a.hysteresis.friction_force, b.hysteresis.friction_force);
+  EXPECT_DOUBLE_EQ(a.hysteresis.pressure_friction, b.hysteresis.pressure_friction);
 }
 
 // What the model builder writes reads back to the same configuration, for the paper's per-pressure fPAM with
@@ -42,7 +45,11 @@ TEST(FpamConfig, WrittenTextReadsBackToItself) {
   const FpamConfig table{.law = rig, .max_pressure_kpa = 120.0, .time_constant = 0.07};
   const FpamConfig constant{.law = {.fpam = physics::paper::design_fpam(), .rest_length = 0.29}};
   const FpamConfig hysteretic{.law = rig, .hysteresis = {.fraction = 0.12, .transition_length = 0.003}};
-  for (const FpamConfig& written : {table, constant, hysteretic}) {
+  const FpamConfig frictional{
+      .law = rig, .hysteresis = {.friction_force = 1.2, .pressure_friction = 0.07, .transition_length = 0.004}};
+  const FpamConfig curved{.law = {.fpam = physics::FpamParameters::Constant(0.0123, 0.28, {.elastic_curvature = 15.0}),
+                                  .rest_length = 0.29}};
+  for (const FpamConfig& written : {table, constant, hysteretic, frictional, curved}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;
@@ -61,7 +68,8 @@ TEST(FpamConfig, TextNamesEveryAttributeThatApplies) {
   EXPECT_EQ(text.find("hysteresis"), std::string::npos) << "none unless the fabric has it: " << text;
 }
 
-// The fabric's hysteresis (physics/fpam_hysteresis.h): h within [0, 0.5), a positive transition length.
+// The fabric's hysteresis (physics/fpam_hysteresis.h): h within [0, 0.5), a positive transition length, a dry
+// friction that is not negative and a pressure friction below 1.
 TEST(FpamConfig, HysteresisOutsideItsRangeNamesTheAttribute) {
   std::string error;
   const std::string base = "softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 ";
@@ -71,6 +79,10 @@ TEST(FpamConfig, HysteresisOutsideItsRangeNamesTheAttribute) {
       << error;
   EXPECT_FALSE(read(base + "hysteresis=0.1 hysteresis_length=0", &error));
   EXPECT_NE(error.find("attribute 'hysteresis_length': must be > 0"), std::string::npos) << error;
+  EXPECT_FALSE(read(base + "hysteresis_friction=-2", &error));
+  EXPECT_NE(error.find("attribute 'hysteresis_friction': must be >= 0 (N)"), std::string::npos) << error;
+  EXPECT_FALSE(read(base + "hysteresis_pressure_friction=1.5", &error));
+  EXPECT_NE(error.find("attribute 'hysteresis_pressure_friction': must be >= 0 and < 1"), std::string::npos) << error;
 }
 
 // The physics core's rules for the law (L0 at most 10 m, a non-zero stiffness) reach the user named by actuator.

@@ -47,6 +47,15 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_EQ(device_to_json(parse_device(text, "x.json")), text);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").wrist.limit_stiffening.torque, 1.5);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.vent_time_constant, 0.15);
+  // A fabric other than the paper's (a J-shaped one) is written, read back, and changes the text the replays' caches
+  // key on; the paper's is not written.
+  DeviceDescription curved = d;
+  curved.fpam = d.fpam.with_fabric({.elastic_modulus = 12e6, .elastic_curvature = 18.0});
+  const std::string curved_text = device_to_json(curved);
+  EXPECT_NE(curved_text, text);
+  EXPECT_EQ(parse_device(curved_text, "x.json").fpam.fabric(), curved.fpam.fabric());
+  EXPECT_EQ(device_to_json(parse_device(curved_text, "x.json")), curved_text);
+  EXPECT_EQ(text.find("\"fabric\""), std::string::npos);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
@@ -75,6 +84,8 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
       {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
       {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
+      {with([](auto& j) { j["fpam"]["fabric"]["elastic_curvature"] = -2; }), "fpam.fabric: elastic_curvature"},
+      {with([](auto& j) { j["fpam"]["fabric"]["modulus"] = 2; }), "fpam.fabric.modulus: unknown field"},
       {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "physics/fpam_force.h"
+#include "physics/fpam_hysteresis.h"
 #include "physics/muscle_torque.h"
 #include "physics/units.h"
 #include "sim/device.h"
@@ -173,11 +175,16 @@ TEST(ModelFreeMotion, LimitStiffeningHoldsTheWristBackAsTheStaticsSay) {
 // The fabric's hysteresis as a state of the plugin's force (physics/fpam_hysteresis.h): the flexor at 137 kPa is moved
 // to the same angle from either side at a prescribed speed; MuJoCo's branch state is Dahl's closed form of the tendon's
 // length change, s = +-(1 - exp(-|dL| / l_h)), and its force the static law's (the same model without hysteresis, the
-// paper's Eqn. force with the mounts' stretch) times (1 + h s): the pull after lengthening exceeds the pull after
-// shortening at the same length.
-TEST(ModelCrossCheck, HysteresisStateIsDahlsAndScalesTheStaticForce) {
+// paper's Eqn. force with the mounts' stretch) plus s (h F + F_0 + mu pi r0^2 P), for a loop that scales with the pull
+// and for a dry friction that grows with pressure: the pull after lengthening exceeds the pull after shortening at
+// the same length.
+class HysteresisCrossCheck : public testing::TestWithParam<physics::FpamHysteresis> {};
+
+TEST_P(HysteresisCrossCheck, StateIsDahlsAndForceIsTheStaticLawsPlusTheLoop) {
   DeviceDescription device = paper_device();
-  device.hysteresis = {.fraction = 0.2, .transition_length = 0.002};
+  device.hysteresis = GetParam();
+  const double pressure = units::kpa_to_pa(137.0);
+  const double end_force = physics::pressure_end_force(pressure, device.fpam.at_pressure(pressure));
   Sim sim(device);
   ASSERT_EQ(sim.model->nu, 8) << "four fPAMs and their four hysteresis states";
   Sim static_sim(paper_device());
@@ -205,12 +212,20 @@ TEST(ModelCrossCheck, HysteresisStateIsDahlsAndScalesTheStaticForce) {
     const double branch = sim.data->act[4 + kFlexor];
     const double expected_branch = (change > 0.0 ? 1.0 : -1.0) * (1.0 - std::exp(-std::abs(change) / 0.002));
     EXPECT_NEAR(branch, expected_branch, 0.01) << "from " << start_deg << " deg, dL " << change;
-    EXPECT_NEAR(sim.data->actuator_force[kFlexor], static_force * (1.0 + 0.2 * branch), 1e-9 * std::abs(static_force));
+    const double expected = std::copysign(
+        physics::hysteretic_force(device.hysteresis, std::abs(static_force), branch, end_force), static_force);
+    EXPECT_NEAR(sim.data->actuator_force[kFlexor], expected, 1e-9 * std::abs(static_force));
     EXPECT_EQ(sim.data->actuator_force[4 + kFlexor], 0.0) << "a state pulls nothing";
     (change > 0.0 ? after_lengthening : after_shortening) = std::abs(sim.data->actuator_force[kFlexor]);
   }
-  EXPECT_GT(after_lengthening, 1.3 * after_shortening);  // (1 + 0.2 s) / (1 - 0.2 s), s near 1 over centimetres
+  EXPECT_GT(after_lengthening, 1.15 * after_shortening);  // s near 1 over centimetres
 }
+
+INSTANTIATE_TEST_SUITE_P(ModelCrossCheck, HysteresisCrossCheck,
+                         testing::Values(physics::FpamHysteresis{.fraction = 0.2, .transition_length = 0.002},
+                                         physics::FpamHysteresis{.friction_force = 1.0,
+                                                                 .pressure_friction = 0.05,
+                                                                 .transition_length = 0.002}));
 
 // Every combination of 0 and 137 kPa on the four muscles stays finite.
 TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
@@ -262,6 +277,30 @@ TEST(ModelLoad, FromFileLoadsTheShippedModelAndNamesAMissingFile) {
   }
 }
 
+// The generated model gives the fPAMs a fixed gain of 0 (MuJoCo calls no gain hook); an MJCF written with gaintype
+// "user" (docs/plugin-fpam.md's first form, whose hook returns 0) loads and moves bit for bit the same, hysteresis
+// states included.
+TEST(ModelLoad, UserGainAndFixedZeroGainMoveTheSame) {
+  DeviceDescription device = paper_device();
+  device.hysteresis.fraction = 0.1;
+  const std::string fixed = build_model_xml(device);
+  std::string user = fixed;
+  for (auto at = user.find("gaintype=\"fixed\" gainprm=\"0\""); at != std::string::npos;
+       at = user.find("gaintype=\"fixed\" gainprm=\"0\"", at))
+    user.replace(at, 28, "gaintype=\"user\"");
+  ASSERT_NE(user, fixed);
+  std::vector<std::vector<double>> runs;
+  for (const std::string& xml : {fixed, user}) {
+    const Model model = Model::FromXml(xml, plugins());
+    WristSim wrist(model);
+    wrist.command_pressures_kpa({120.0, 10.0, 70.0, 0.0});
+    wrist.run(0.5);
+    runs.push_back({wrist.angle(physics::WristAxis::kFlexionExtension), wrist.angle(physics::WristAxis::kUlnarRadial)});
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_GT(std::abs(runs[0][0]), 0.05);
+}
+
 // A malformed model or plugin configuration fails at load, naming the actuator and the attribute.
 TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
   const std::string xml = build_model_xml(paper_device());
@@ -281,6 +320,9 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
        "actuator 'flexor': unknown plugin 'acme.muscle'"},
       {replaced("<text name=\"plugin:flexor\"", "<text name=\"plugin:nobody\""), "actuator 'flexor' has user"},
       {replaced("<tendon>", "<tendon><bogus/>"), "model.xml"},
+      {replaced("gainprm=\"0\"", "gainprm=\"2\""),
+       "actuator 'flexor': softwrist.fpam needs dyntype and biastype 'user', and gaintype 'user' or 'fixed' with "
+       "gainprm 0"},
       {"<mujoco><worldbody>", "model.xml"},
   };
   // With hysteresis: a state's actuator that is missing, or that acts on another muscle's tendon.
@@ -294,7 +336,8 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
     return text.replace(at, from.size(), to);
   };
   cases.push_back({state_replaced("    <general name=\"flexor_hysteresis\" tendon=\"flexor\" dyntype=\"user\" "
-                                  "gaintype=\"user\" biastype=\"user\" actlimited=\"true\" actrange=\"-1 1\"/>\n",
+                                  "gaintype=\"fixed\" gainprm=\"0\" biastype=\"user\" actlimited=\"true\" "
+                                  "actrange=\"-1 1\"/>\n",
                                   ""),
                    "actuator 'flexor': has hysteresis but no actuator 'flexor_hysteresis'"});
   cases.push_back(
