@@ -8,9 +8,12 @@
 // The test is on the corrected model's residuals at each repeated condition (a repeat group, e.g. one pressure,
 // direction and contraction step of a tensile test), the last repetition less the first: their mean, its size in
 // noise units of one measurement, and its t statistic with the standard error from batch means (the conditions in
-// the log's order cut into ten contiguous batches; Law & Kelton's batch means). Batches, not the conditions' own
+// the log's order cut into five contiguous batches; Law & Kelton's batch means). Batches, not the conditions' own
 // scatter, because a real sensor's noise wanders over neighbouring conditions (a load cell's slow drift within a
-// cycle): the differences of neighbours are then alike and their scatter understates the mean's uncertainty.
+// cycle): the differences of neighbours are then alike and their scatter understates the mean's uncertainty. With a
+// middle repetition the batch means' scatter is taken from the contrast last - w middle + (w - 1) first, which a
+// drift linear in time leaves at zero: a drift that differs from condition to condition (a creep that depends on the
+// pressure) does not then inflate its own standard error.
 
 #include <string>
 #include <vector>
@@ -29,9 +32,11 @@ struct TrialDrift {
 };
 
 struct DriftOptions {
-  std::size_t batches = 10;         // for the standard error
-  std::size_t min_conditions = 20;  // two per batch at least
-  double min_t = 6.0;               // Student's t with 9 degrees of freedom: two-sided chance 2e-4 per trial
+  // For the standard error: five batches, long enough (68 conditions of a 340-condition tensile test) that a sensor's
+  // wander over tens of neighbouring conditions leaves their means nearly independent.
+  std::size_t batches = 5;
+  std::size_t min_conditions = 10;  // two per batch at least
+  double min_t = 8.6;               // Student's t with 4 degrees of freedom: two-sided chance 2e-4 per trial
   double min_shift = 0.5;           // [noise units] a drift below half a measurement's noise is not the gap's cause
 };
 
