@@ -429,23 +429,30 @@ void decide_beyond_tolerances(Diagnosis& d, const DiagnosisOptions& options) {
   }
 }
 
-// An effect named for a gap that drifts between the repetitions of a condition (drift.h) is not the cause: a constant
-// property of the device cannot close a gap that changes over the session.
-void unexplained_where_it_drifts(Diagnosis& d) {
+// A named effect is not the cause where the data contradict it: the gap drifts between the repetitions of a
+// condition (drift.h), which no constant property of the device closes, or the corrected model misses a trial the
+// nominal matched (DiagnosisOptions::contradiction_gap).
+void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
   if (d.verdict == "none" || d.verdict == "unexplained") return;
-  std::vector<std::string> drifting;
+  std::vector<std::string> why;
   for (const TrialDrift& t : d.drift) {
     if (!t.significant) continue;
-    drifting.push_back(
-        fmt::format("{}: repetition {} reads {:+.2f} noise units from repetition {} over {} conditions "
-                    "(t = {:.1f})",
-                    t.experiment, t.last_repetition, t.shift, t.first_repetition, t.conditions, t.t));
+    why.push_back(fmt::format(
+        "the gap drifts over the session, which no constant property of the device explains (a fabric that "
+        "creeps, a sensor that warms up, a mount that slips): {}: repetition {} reads {:+.2f} noise units from "
+        "repetition {} over {} conditions (t = {:.1f})",
+        t.experiment, t.last_repetition, t.shift, t.first_repetition, t.conditions, t.t));
   }
-  if (drifting.empty()) return;
-  d.reason = fmt::format(
-      "the gap drifts over the session, which no constant property of the device explains (a fabric that creeps, a "
-      "sensor that warms up, a mount that slips): {}; as fitted, {}",
-      fmt::join(drifting, "; "), d.reason);
+  for (const TrialGap& t : d.trials) {
+    if (t.excess_nominal < options.min_gap && t.remaining_significant &&
+        t.excess_corrected >= options.contradiction_gap)
+      why.push_back(
+          fmt::format("{} contradicts {}: the nominal matched it ({:.2f} noise units), the corrected model "
+                      "misses it by {:.2f}",
+                      d.verdict, t.experiment, t.excess_nominal, t.excess_corrected));
+  }
+  if (why.empty()) return;
+  d.reason = fmt::format("{}; as fitted, {}", fmt::join(why, "; "), d.reason);
   d.verdict = "unexplained";
   d.also_effects.clear();
 }
@@ -533,7 +540,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   decide_verdict(d, options);
   d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
-  unexplained_where_it_drifts(d);
+  unexplained_where_contradicted(d, options);
   return d;
 }
 

@@ -52,6 +52,11 @@ struct DiagnosisOptions {
   // 0.03 deg offset of a trajectory, which no user would call a gap. Tested per trial, so that clean trials of other
   // kinds do not average a clear gap away.
   double min_gap = 1.0;
+  // The named effect must not contradict the data: a trial the nominal matched (below min_gap) that the corrected
+  // model misses significantly by at least this many noise units makes the verdict `unexplained` (a friction where
+  // the muscle slides over the wrist fitted as the fabric's own hysteresis puts a loop on the tensile rig, which the
+  // rig did not show: 0.2 -> 3.9 noise units).
+  double contradiction_gap = 2.0;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
   // leaves one, so that a device differing from its placement file only within its tolerances is `none`.

@@ -127,8 +127,21 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
     real.device.fpam = physics::FpamParameters::Table(rows, device.fpam.fabric());
     const auto d = run(real, device, {EffectId::kFpamParams});
     const auto& f = fit_of(d, EffectId::kFpamParams);
-    EXPECT_NEAR(param(f, "r0_scale"), 0.9, 0.01);
+    EXPECT_NEAR(param(f, "r0_scale"), 0.9, 0.015);
     EXPECT_NEAR(param(f, "eps_max_shift"), 0.02, 0.003);
+    // The fabric's stiffness and curvature trade off against each other and against r0 where the tensile rig's noise
+    // allows (fitted x 0.55 and 7.8 for the true x 1 and 0; twice the budget ends the same); what the data fix is the
+    // force law: within 2 % of the true pull, or two load-cell noises (1 N) where that is more.
+    ModelVariant fitted{.device = device};
+    apply_effect(EffectId::kFpamParams, f.values, fitted);
+    for (const double kpa : {0.0, 34.0, 68.0, 103.0, 137.0}) {
+      const double pressure = units::kpa_to_pa(kpa);
+      for (double eps = 0.0; eps < 0.3; eps += 0.02) {
+        const double truth = physics::fpam_force(real.device.fpam, pressure, eps);
+        EXPECT_NEAR(physics::fpam_force(fitted.device.fpam, pressure, eps), truth, std::max(1.0, 0.02 * truth))
+            << kpa << " kPa, eps " << eps;
+      }
+    }
   }
 }
 
