@@ -177,14 +177,14 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
     read.Fail(kVentTimeConstant, "must be 0 (as time_constant) or lie in [0.001, 100] (s)");
   }
   result.hysteresis.fraction = read.Number(kHysteresis, 0.0);
-  if (read.ok() && !(result.hysteresis.fraction >= 0.0 && result.hysteresis.fraction < 0.5))
-    read.Fail(kHysteresis, "must be >= 0 and < 0.5");
   result.hysteresis.transition_length = read.Positive(kHysteresisLength, result.hysteresis.transition_length);
   result.hysteresis.friction_force = read.Number(kHysteresisFriction, 0.0);
-  if (read.ok() && !(result.hysteresis.friction_force >= 0.0)) read.Fail(kHysteresisFriction, "must be >= 0 (N)");
   result.hysteresis.pressure_friction = read.Number(kHysteresisPressureFriction, 0.0);
-  if (read.ok() && !(result.hysteresis.pressure_friction >= 0.0 && result.hysteresis.pressure_friction < 1.0))
-    read.Fail(kHysteresisPressureFriction, "must be >= 0 and < 1");
+  if (const auto problem = physics::hysteresis_problem(result.hysteresis); read.ok() && problem) {
+    static constexpr std::string_view kAttribute[] = {kHysteresis, kHysteresisFriction, kHysteresisPressureFriction,
+                                                      kHysteresisLength};
+    read.Fail(kAttribute[static_cast<int>(problem->field)], problem->requirement);
+  }
   if (!read.ok()) return std::nullopt;
   return result;
 }

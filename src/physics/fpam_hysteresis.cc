@@ -25,15 +25,24 @@ double hysteresis_state_after(const FpamHysteresis& hysteresis, double state, do
   return sign + (state - sign) * std::exp(-std::abs(lengthening) / hysteresis.transition_length);
 }
 
+std::optional<HysteresisProblem> hysteresis_problem(const FpamHysteresis& h) {
+  using F = HysteresisField;
+  if (!(std::isfinite(h.fraction) && h.fraction >= 0.0 && h.fraction < 0.5))
+    return HysteresisProblem{F::kFraction, h.fraction, "must be >= 0 and < 0.5"};
+  if (!(std::isfinite(h.friction_force) && h.friction_force >= 0.0))
+    return HysteresisProblem{F::kFrictionForce, h.friction_force, "must be >= 0 (N)"};
+  if (!(std::isfinite(h.pressure_friction) && h.pressure_friction >= 0.0 && h.pressure_friction < 1.0))
+    return HysteresisProblem{F::kPressureFriction, h.pressure_friction, "must be >= 0 and < 1"};
+  if (!(std::isfinite(h.transition_length) && h.transition_length > 0.0))
+    return HysteresisProblem{F::kTransitionLength, h.transition_length, "must be a finite number > 0"};
+  return std::nullopt;
+}
+
 void validate(const FpamHysteresis& hysteresis) {
-  require(std::isfinite(hysteresis.fraction) && hysteresis.fraction >= 0.0 && hysteresis.fraction < 0.5, "hysteresis",
-          hysteresis.fraction, "must be >= 0 and < 0.5");
-  require(std::isfinite(hysteresis.friction_force) && hysteresis.friction_force >= 0.0, "hysteresis_friction",
-          hysteresis.friction_force, "must be >= 0 (N)");
-  require(std::isfinite(hysteresis.pressure_friction) && hysteresis.pressure_friction >= 0.0 &&
-              hysteresis.pressure_friction < 1.0,
-          "hysteresis_pressure_friction", hysteresis.pressure_friction, "must be >= 0 and < 1");
-  require_positive("hysteresis_length", hysteresis.transition_length);
+  static constexpr const char* kNames[] = {"hysteresis", "hysteresis_friction", "hysteresis_pressure_friction",
+                                           "hysteresis_length"};
+  if (const auto p = hysteresis_problem(hysteresis))
+    require(false, kNames[static_cast<int>(p->field)], p->value, p->requirement);
 }
 
 }  // namespace softwrist::physics

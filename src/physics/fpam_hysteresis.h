@@ -13,6 +13,9 @@
 // bounded by the pull itself, so a slack muscle pulls nothing on either branch. All zero (the default) is the
 // paper's static law exactly.
 
+#include <optional>
+#include <string>
+
 namespace softwrist::physics {
 
 struct FpamHysteresis {
@@ -35,8 +38,21 @@ double hysteretic_force(const FpamHysteresis& hysteresis, double static_force, d
 // closed form s = sgn(x) + (s0 - sgn(x)) exp(-|x| / l_h). For rigs that move in steps (the tensile test).
 double hysteresis_state_after(const FpamHysteresis& hysteresis, double state, double lengthening);
 
-// Throws physics::InvalidParameter naming the field when h is outside [0, 0.5), F_0 or mu negative, or l_h is not
-// positive.
+// The fields of FpamHysteresis, for readers that name them their own way (the plugin's attributes, the placement
+// file): one range check, worded once.
+enum class HysteresisField { kFraction, kFrictionForce, kPressureFriction, kTransitionLength };
+struct HysteresisProblem {
+  HysteresisField field;
+  double value;
+  std::string requirement;  // "must be >= 0 and < 0.5"
+};
+
+// The first field outside its range: h outside [0, 0.5), F_0 negative, mu outside [0, 1), l_h not positive (or any
+// of them not finite); nullopt when all are within.
+std::optional<HysteresisProblem> hysteresis_problem(const FpamHysteresis& hysteresis);
+
+// Throws physics::InvalidParameter naming the field by its plugin attribute (hysteresis, hysteresis_friction,
+// hysteresis_pressure_friction, hysteresis_length) on hysteresis_problem's first finding.
 void validate(const FpamHysteresis& hysteresis);
 
 }  // namespace softwrist::physics

@@ -29,15 +29,15 @@ using Reader = io::JsonReader;
 physics::FpamHysteresis read_hysteresis(Reader& fpam) {
   physics::FpamHysteresis h;
   h.fraction = fpam.number("hysteresis", h.fraction);
-  if (!(h.fraction >= 0.0 && h.fraction < 0.5))
-    fpam.fail("hysteresis", fmt::format("must be >= 0 and < 0.5, got {}", h.fraction));
   h.transition_length = units::mm_to_m(fpam.positive("hysteresis_length_mm", units::m_to_mm(h.transition_length)));
   h.friction_force = fpam.number("hysteresis_friction_n", h.friction_force);
-  if (!(h.friction_force >= 0.0))
-    fpam.fail("hysteresis_friction_n", fmt::format("must be >= 0 (N), got {}", h.friction_force));
   h.pressure_friction = fpam.number("hysteresis_pressure_friction", h.pressure_friction);
-  if (!(h.pressure_friction >= 0.0 && h.pressure_friction < 1.0))
-    fpam.fail("hysteresis_pressure_friction", fmt::format("must be >= 0 and < 1, got {}", h.pressure_friction));
+  if (const auto problem = physics::hysteresis_problem(h)) {
+    static constexpr const char* kField[] = {"hysteresis", "hysteresis_friction_n", "hysteresis_pressure_friction",
+                                             "hysteresis_length_mm"};
+    fpam.fail(kField[static_cast<int>(problem->field)],
+              fmt::format("{}, got {}", problem->requirement, problem->value));
+  }
   return h;
 }
 

@@ -86,6 +86,13 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
       {with([](auto& j) { j["fpam"]["fabric"]["elastic_curvature"] = -2; }), "fpam.fabric: elastic_curvature"},
       {with([](auto& j) { j["fpam"]["fabric"]["modulus"] = 2; }), "fpam.fabric.modulus: unknown field"},
+      // The hysteresis's ranges are the physics core's (physics::hysteresis_problem), named by the file's fields.
+      {with([](auto& j) { j["fpam"]["hysteresis"] = 0.5; }), "fpam.hysteresis: must be >= 0 and < 0.5, got 0.5"},
+      {with([](auto& j) { j["fpam"]["hysteresis_friction_n"] = -2; }),
+       "fpam.hysteresis_friction_n: must be >= 0 (N), got -2"},
+      {with([](auto& j) { j["fpam"]["hysteresis_pressure_friction"] = 1.5; }),
+       "fpam.hysteresis_pressure_friction: must be >= 0 and < 1, got 1.5"},
+      {with([](auto& j) { j["fpam"]["hysteresis_length_mm"] = 0; }), "fpam.hysteresis_length_mm: must be"},
       {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
