@@ -135,8 +135,12 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseMode
   });
   std::stable_sort(fits.begin(), fits.end(), [](const EffectFit& a, const EffectFit& b) {
     if (a.applicable != b.applicable) return a.applicable;
-    return a.score > b.score;
+    return a.heldout_error_after < b.heldout_error_after;
   });
+  const std::size_t leader = leader_of_round(problem, fits, options, options.seed + 500);
+  if (leader < fits.size())
+    std::rotate(fits.begin(), fits.begin() + static_cast<std::ptrdiff_t>(leader),
+                fits.begin() + static_cast<std::ptrdiff_t>(leader) + 1);
   return fits;
 }
 
@@ -191,8 +195,9 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
       });
       round_seed += 100;
     }
-    const auto best = std::max_element(tries.begin(), tries.end(),
-                                       [](const EffectFit& a, const EffectFit& b) { return a.score < b.score; });
+    const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50);
+    if (leader == tries.size()) break;
+    const auto best = tries.begin() + static_cast<std::ptrdiff_t>(leader);
     if (!helps(*best)) break;
     apply_effect(best->id, best->values, c.model);
     candidates.erase(std::find(candidates.begin(), candidates.end(), best->id));
@@ -287,7 +292,6 @@ EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
   f.heldout_error_before = before;
   f.heldout_error_after = b.heldout_error_with_effect;
   f.shrink_fraction = fraction_closed(before, b.heldout_error_with_effect);
-  f.score = f.shrink_fraction;
   f.ci_low = b.ci_low;
   f.ci_high = b.ci_high;
   f.evaluations = b.evaluations;

@@ -89,7 +89,8 @@ nlohmann::json to_json(const Diagnosis& d) {
                           {"shrink_fraction", f.shrink_fraction},
                           {"ci_low", f.ci_low},
                           {"ci_high", f.ci_high},
-                          {"score", f.score},
+                          {"se_of_difference_to_best", f.se_of_difference_to_best},
+                          {"within_one_se_of_best", f.within_one_se_of_best},
                           {"train_error_before", f.train_error_before},
                           {"train_error_after", f.train_error_after},
                           {"evaluations", f.evaluations}};

@@ -157,8 +157,34 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   fit.heldout_error_after = problem.heldout_error(after);
   fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
   std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(problem, before, after, options.bootstrap, seed);
-  fit.score = fit.shrink_fraction - options.parameter_penalty * static_cast<double>(spec.parameters.size());
+  fit.heldout_after_sums = after;
   return fit;
+}
+
+std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
+                            std::uint64_t seed) {
+  std::size_t best = fits.size();
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    if (fits[k].applicable && (best == fits.size() || fits[k].heldout_error_after < fits[best].heldout_error_after))
+      best = k;
+  }
+  if (best == fits.size()) return best;
+  std::size_t leader = best;
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    EffectFit& f = fits[k];
+    if (!f.applicable) continue;
+    f.se_of_difference_to_best = k == best
+                                     ? 0.0
+                                     : paired_difference_se(problem, f.heldout_after_sums,
+                                                            fits[best].heldout_after_sums, options.bootstrap, seed);
+    f.within_one_se_of_best = f.heldout_error_after <= fits[best].heldout_error_after + f.se_of_difference_to_best;
+    if (!options.one_se_rule || !f.within_one_se_of_best) continue;
+    const EffectFit& l = fits[leader];
+    if (f.values.size() < l.values.size() ||
+        (f.values.size() == l.values.size() && f.heldout_error_after < l.heldout_error_after))
+      leader = k;
+  }
+  return leader;
 }
 
 }  // namespace softwrist::diagnosis

@@ -3,7 +3,9 @@
 // parameters searched on the training part of the data, then measured on the held-out part with a bootstrap
 // interval (diagnosis.h). Internal to src/diagnosis.
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "diagnosis/diagnosis.h"
 #include "diagnosis/gap_problem.h"
@@ -22,6 +24,16 @@ std::vector<EffectId> requested_effects(const DiagnosisOptions& options);
 
 // Which trials have a gap and are of a kind `spec` acts on (a trial is the index into `trials`).
 std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const EffectSpec& spec);
+
+// The leader of a round of fits on one base model (an index into `fits`; fits.size() when none is applicable): with
+// `one_se_rule`, of the applicable fits whose held-out error the data do not tell from the lowest one's (within one
+// bootstrap standard error of the paired difference: the one-standard-error rule of Breiman, Friedman, Olshen & Stone
+// 1984, Sec. 3.4.3, and Hastie, Tibshirani & Friedman 2009, Sec. 7.10), the one with the fewest parameters, then the
+// lowest error; otherwise the lowest error. The held-out error already charges an effect for fitting noise; the rule
+// adds parsimony only among what the data cannot separate. Records each fit's standard error and whether it is
+// within one.
+std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
+                            std::uint64_t seed);
 
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);

@@ -111,29 +111,57 @@ double GapProblem::mean_over_kinds(const std::vector<bool>* only,
   return by_kind.empty() ? 0.0 : total / static_cast<double>(by_kind.size());
 }
 
-std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
-                                             int resamples, std::uint64_t seed) {
+namespace {
+
+// Calls `each(weights)` for `resamples` resamples of each trial's held-out units with replacement (weights[t][u]: how
+// often unit u of trial t was drawn), the same sequence for the same seed.
+void for_each_resample(const GapProblem& problem, int resamples, std::uint64_t seed, const UnitSums& shape,
+                       const std::function<void(const std::vector<std::vector<int>>&)>& each) {
   const auto units = problem.heldout_units();
   std::mt19937_64 rng(seed);
-  std::vector<double> shrinks;
   std::vector<std::vector<int>> weights(problem.size());
   for (int b = 0; b < resamples; ++b) {
     for (std::size_t t = 0; t < problem.size(); ++t) {
-      weights[t].assign(before.per_trial[t].size(), 0);
+      weights[t].assign(shape.per_trial[t].size(), 0);
       if (units[t].empty()) continue;
       std::uniform_int_distribution<std::size_t> pick(0, units[t].size() - 1);
       for (std::size_t k = 0; k < units[t].size(); ++k) ++weights[t][units[t][pick(rng)]];
     }
+    each(weights);
+  }
+}
+
+}  // namespace
+
+std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
+                                             int resamples, std::uint64_t seed) {
+  std::vector<double> shrinks;
+  for_each_resample(problem, resamples, seed, before, [&](const std::vector<std::vector<int>>& weights) {
     const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
     // A resample without any gap (all its units where the model was already right) says nothing of the shrink.
     if (e0 > 0.0) shrinks.push_back((e0 - e1) / e0);
-  }
+  });
   if (shrinks.empty()) return {0.0, 0.0};
   std::sort(shrinks.begin(), shrinks.end());
   const auto at = [&](double q) {
     return shrinks[static_cast<std::size_t>(q * static_cast<double>(shrinks.size() - 1))];
   };
   return {at(0.025), at(0.975)};
+}
+
+double paired_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
+                            std::uint64_t seed) {
+  double sum = 0.0, sum2 = 0.0;
+  int n = 0;
+  for_each_resample(problem, resamples, seed, a, [&](const std::vector<std::vector<int>>& weights) {
+    const double d = problem.heldout_error(a, &weights) - problem.heldout_error(b, &weights);
+    sum += d;
+    sum2 += d * d;
+    ++n;
+  });
+  if (n < 2) return 0.0;
+  const double mean = sum / n;
+  return std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1)));
 }
 
 }  // namespace softwrist::diagnosis

@@ -10,6 +10,7 @@
 
 #include "diagnosis/effects.h"
 #include "diagnosis/replay.h"
+#include "diagnosis/unit_sums.h"
 
 namespace softwrist::diagnosis {
 
@@ -17,11 +18,6 @@ namespace softwrist::diagnosis {
 inline constexpr double kInfeasible = 1e12;
 
 using Predictions = std::vector<std::vector<double>>;  // [trial][point]
-
-// Per trial and split unit: sum of (r/sigma)^2 and count, over held-out measurements.
-struct UnitSums {
-  std::vector<std::vector<std::pair<double, int>>> per_trial;  // [trial][unit]
-};
 
 class GapProblem {
  public:
@@ -66,5 +62,9 @@ inline double fraction_closed(double before, double after) { return before > 0.0
 // both models see the same resample. Resamples with no gap left to shrink are left out.
 std::pair<double, double> bootstrap_interval(const GapProblem& problem, const UnitSums& before, const UnitSums& after,
                                              int resamples, std::uint64_t seed);
+// The bootstrap standard error of heldout_error(a) - heldout_error(b), both taken on the same resamples of the
+// held-out units (paired): how far apart two models' held-out errors must lie before these data tell them apart.
+double paired_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
+                            std::uint64_t seed);
 
 }  // namespace softwrist::diagnosis

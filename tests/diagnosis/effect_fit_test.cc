@@ -1,0 +1,99 @@
+// Ranking the effects fitted in one round (diagnosis/effect_fit.h, leader_of_round): the one-standard-error rule
+// (Breiman, Friedman, Olshen & Stone 1984, Sec. 3.4.3; Hastie, Tibshirani & Friedman 2009, Sec. 7.10). A richer
+// effect leads when the held-out data tell its error from a simpler one's; when they do not, the simpler leads.
+// Held-out sums are made directly: 40 units of 25 measurements of unit noise, each unit with a systematic residual
+// that varies from unit to unit (as a model's error does from held angle to held angle).
+
+#include "diagnosis/effect_fit.h"
+
+#include <functional>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace softwrist::diagnosis {
+namespace {
+
+constexpr int kUnits = 40, kPerUnit = 25;
+
+class LeaderOfRound : public ::testing::Test {
+ protected:
+  LeaderOfRound() {
+    for (int u = 0; u < kUnits; ++u) {
+      for (int i = 0; i < kPerUnit; ++i) sweep_.points.push_back(Point{.unit = u, .heldout = true});
+    }
+    trials_.push_back(sweep_);
+  }
+
+  // Held-out sums of a model whose systematic residual in unit u is `mean` + `spread` * pattern(u), on the
+  // measurements' noise drawn from one seed (models compared on the same data share it).
+  UnitSums sums(double mean, double spread, const std::function<double(int)>& pattern) {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    std::mt19937_64 noise(7);
+    UnitSums s;
+    s.per_trial.emplace_back(kUnits);
+    for (int u = 0; u < kUnits; ++u) {
+      const double systematic = mean + spread * pattern(u);
+      auto& unit = s.per_trial[0][static_cast<std::size_t>(u)];
+      for (int i = 0; i < kPerUnit; ++i) unit.first += std::pow(systematic + normal(noise), 2);
+      unit.second = kPerUnit;
+    }
+    return s;
+  }
+  UnitSums sums(double mean, double spread) {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    return sums(mean, spread, [&](int) { return normal(rng_); });
+  }
+
+  EffectFit fit(const char* name, std::size_t parameters, UnitSums s) {
+    EffectFit f{.name = name, .values = std::vector<double>(parameters, 0.0)};
+    f.heldout_error_after = problem_.heldout_error(s);
+    f.heldout_after_sums = std::move(s);
+    return f;
+  }
+
+  std::mt19937_64 rng_{7};
+  Trial trial_{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+  PreparedTrial sweep_{.trial = &trial_, .name = "sweep", .unit = "N m", .noise = 1.0};
+  std::vector<PreparedTrial> trials_;
+  ReplayEngine engine_{sim::PluginSet::Default()};
+  GapProblem problem_{trials_, engine_};
+  DiagnosisOptions options_;
+};
+
+TEST_F(LeaderOfRound, ARicherEffectTheDataPreferLeads) {
+  std::vector<EffectFit> fits = {fit("simple", 1, sums(1.0, 0.3)), fit("rich", 4, sums(0.3, 0.3))};
+  ASSERT_LT(fits[1].heldout_error_after, fits[0].heldout_error_after);
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
+  EXPECT_FALSE(fits[0].within_one_se_of_best) << fits[0].se_of_difference_to_best;
+  EXPECT_TRUE(fits[1].within_one_se_of_best);
+}
+
+TEST_F(LeaderOfRound, WhatTheDataCannotSeparateGoesToTheSimplerEffect) {
+  // The same data and the same mean square error; where each model errs differs from unit to unit by 0.3.
+  const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
+  const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
+  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs)), fit("simple", 1, sums(0.8, 0.3, alternate)),
+                                 fit("inapplicable", 0, sums(0.0, 0.0))};
+  fits[2].applicable = false;  // never the leader
+  const std::size_t best = fits[0].heldout_error_after < fits[1].heldout_error_after ? 0 : 1;
+  const std::size_t other = 1 - best;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
+  const double difference = fits[other].heldout_error_after - fits[best].heldout_error_after;
+  EXPECT_TRUE(fits[other].within_one_se_of_best)
+      << "difference " << difference << ", se " << fits[other].se_of_difference_to_best;
+  EXPECT_GT(fits[other].se_of_difference_to_best, 2.0 * difference);
+  // Without the rule the lower error leads, whatever its parameters.
+  options_.one_se_rule = false;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), best);
+}
+
+TEST_F(LeaderOfRound, NoneApplicableIsNoLeader) {
+  std::vector<EffectFit> fits = {fit("a", 1, sums(0.5, 0.1))};
+  fits[0].applicable = false;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), fits.size());
+}
+
+}  // namespace
+}  // namespace softwrist::diagnosis
