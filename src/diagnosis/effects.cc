@@ -56,8 +56,13 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTensile, K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kWrapGeometry,
        "wrap_geometry",
-       "the wrist the muscles wrap around has another radius (Eqns. parameters2, length, tau2)",
-       {{"wrist_radius_scale", 0.5, 1.5, false, 1.0}},
+       "the wrist the muscles wrap around has another radius, and its centre lies off the joint's (Eqns. parameters2, "
+       "length, tau2 about the wrist circle's centre, physics/torque_geometry.h: towards the hand, the palm and the "
+       "ulna, each pair's circle moved alike)",
+       {{"wrist_radius_scale", 0.5, 1.5, false, 1.0},
+        {"centre_distal_mm", -10.0, 10.0, false, 0.0},
+        {"centre_palmar_mm", -10.0, 10.0, false, 0.0},
+        {"centre_ulnar_mm", -10.0, 10.0, false, 0.0}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kPassiveWrist,
        "passive_wrist",
@@ -163,8 +168,17 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       break;
     case EffectId::kWrapGeometry:
       for (std::size_t i = 0; i < device.muscles.size(); ++i) {
-        device.muscles[i].wrist_radius *= values[0];
-        physics::validate(device.muscles[i].placement, device.muscles[i].wrist_radius);
+        sim::MuscleMount& m = device.muscles[i];
+        m.wrist_radius *= values[0];
+        // Each muscle's y points to its own side: the flexor's palmar, the extensor's dorsal, the ulnar muscle's
+        // ulnar, the radial's radial (sim::kMuscleSides).
+        const double towards_side_mm = i == sim::kFlexor     ? values[2]
+                                       : i == sim::kExtensor ? -values[2]
+                                       : i == sim::kUlnar    ? values[3]
+                                                             : -values[3];
+        m.wrap_centre.x += units::mm_to_m(values[1]);
+        m.wrap_centre.y += units::mm_to_m(towards_side_mm);
+        physics::validate(m.placement, m.wrist_radius, m.wrap_centre);
       }
       break;
     case EffectId::kPassiveWrist:

@@ -137,7 +137,8 @@ bool nominal_path_wraps(const sim::DeviceDescription& nominal, int muscle, doubl
   const auto& mount = nominal.muscles[static_cast<std::size_t>(muscle)];
   return physics::muscle_path(
              mount.placement, mount.wrist_radius,
-             physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) * units::deg_to_rad(angle_deg))
+             physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) * units::deg_to_rad(angle_deg),
+             mount.wrap_centre)
              .regime == physics::Regime::kWrapping;
 }
 

@@ -14,6 +14,7 @@ namespace softwrist::physics {
 struct Muscle : MuscleLaw {
   Placement placement;
   double wrist_radius = 0.0;  // r_w [m]
+  WrapCentre wrap_centre;     // the wrist circle's centre relative to O (torque_geometry.h); the paper's: at O
 };
 void validate(const Muscle& muscle);
 
@@ -33,7 +34,8 @@ MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressu
 // The same with the force law already prepared for one pressure from this muscle's fPAM, for loops over many angles
 // or placements at that pressure (the design optimization). The muscle must have been validated.
 MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle);
-// The same with the placement's geometry worked out once (PlacementGeometry of the muscle's placement and r_w).
+// The same with the placement's geometry worked out once (PlacementGeometry of the muscle's placement, r_w and
+// centre).
 MuscleState muscle_state(const Muscle& muscle, const PlacementGeometry& geometry, const FpamForceLaw& force_law,
                          const JointAngle& joint_angle);
 

@@ -10,32 +10,40 @@ namespace softwrist::physics {
 
 const char* to_string(Regime regime) { return regime == Regime::kWrapping ? "wrapping" : "straight"; }
 
-void validate(const Placement& placement, double wrist_radius) {
+void validate(const Placement& placement, double wrist_radius, WrapCentre centre) {
   require_positive("placement d1 [m]", placement.d1);
   require_non_negative("placement w1 [m]", placement.w1);
   require_positive("placement d2 [m]", placement.d2);
   require_non_negative("placement w2 [m]", placement.w2);
   require_positive("wrist_radius r_w [m]", wrist_radius);
+  require_finite("wrap centre x [m]", centre.x);
+  require_finite("wrap centre y [m]", centre.y);
   for (const auto& [name, value] : {std::pair{"placement d1 [m]", placement.d1},
                                     {"placement w1 [m]", placement.w1},
                                     {"placement d2 [m]", placement.d2},
                                     {"placement w2 [m]", placement.w2},
-                                    {"wrist_radius r_w [m]", wrist_radius}}) {
+                                    {"wrist_radius r_w [m]", wrist_radius},
+                                    {"wrap centre x [m]", std::abs(centre.x)},
+                                    {"wrap centre y [m]", std::abs(centre.y)}}) {
     require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
   }
-  require(std::hypot(placement.d1, placement.w1) > wrist_radius, "forearm mount distance R1 [m]",
-          std::hypot(placement.d1, placement.w1), "must exceed the wrist radius r_w (mount outside the wrist)");
-  require(std::hypot(placement.d2, placement.w2) > wrist_radius, "hand mount distance R2 [m]",
-          std::hypot(placement.d2, placement.w2), "must exceed the wrist radius r_w (mount outside the wrist)");
+  require(std::hypot(placement.d1 + centre.x, placement.w1 - centre.y) > wrist_radius, "forearm mount distance R1 [m]",
+          std::hypot(placement.d1 + centre.x, placement.w1 - centre.y),
+          "must exceed the wrist radius r_w (mount outside the wrist)");
+  // The hand mount turns about O: its closest approach to C is R2 - |OC|.
+  const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(centre.x, centre.y);
+  require(closest > wrist_radius,
+          centre.at_joint() ? "hand mount distance R2 [m]" : "hand mount distance R2 - |OC| [m]", closest,
+          "must exceed the wrist radius r_w (mount outside the wrist at every angle)");
 }
 
 namespace {
 
 // psi of Eqn. parameters2. Q1 is the tangent point from P1 on the muscle's side: P1 lies at polar angle
-// atan2(w1, -d1), and the tangent from it touches the circle acos(r_w/R1) closer to +y; psi is measured from y.
-double tangent_angle(const Placement& placement, double r_w) {
-  const double q1_polar =
-      std::atan2(placement.w1, -placement.d1) - std::acos(r_w / std::hypot(placement.d1, placement.w1));
+// atan2(w1, -d1) about C, and the tangent from it touches the circle acos(r_w/R1) closer to +y; psi is measured from y.
+double tangent_angle(const Placement& placement, double r_w, WrapCentre centre = {}) {
+  const double x = -placement.d1 - centre.x, y = placement.w1 - centre.y;
+  const double q1_polar = std::atan2(y, x) - std::acos(r_w / std::hypot(x, y));
   return std::numbers::pi / 2.0 - q1_polar;
 }
 
@@ -52,12 +60,13 @@ double wrap_transition_angle(const Placement& placement, double wrist_radius) {
   return wrap_angle_at_zero(placement, wrist_radius, tangent_angle(placement, wrist_radius));
 }
 
-PlacementGeometry::PlacementGeometry(const Placement& placement, double wrist_radius)
-    : placement_(placement), wrist_radius_(wrist_radius) {
-  validate(placement, wrist_radius);
-  tangent_length1_ = std::sqrt(placement.d1 * placement.d1 + placement.w1 * placement.w1 - wrist_radius * wrist_radius);
+PlacementGeometry::PlacementGeometry(const Placement& placement, double wrist_radius, WrapCentre centre)
+    : placement_(placement), centre_(centre), wrist_radius_(wrist_radius) {
+  validate(placement, wrist_radius, centre);
+  const double x1 = placement.d1 + centre.x, y1 = placement.w1 - centre.y;  // |P1 - C| = |(x1, y1)|
+  tangent_length1_ = std::sqrt(x1 * x1 + y1 * y1 - wrist_radius * wrist_radius);
   tangent_length2_ = std::sqrt(placement.d2 * placement.d2 + placement.w2 * placement.w2 - wrist_radius * wrist_radius);
-  tangent_angle_ = tangent_angle(placement, wrist_radius);
+  tangent_angle_ = tangent_angle(placement, wrist_radius, centre);
   wrap_angle_at_zero_ = wrap_angle_at_zero(placement, wrist_radius, tangent_angle_);
   cos_q2_at_zero_ = std::cos(tangent_angle_ + wrap_angle_at_zero_);
   sin_q2_at_zero_ = std::sin(tangent_angle_ + wrap_angle_at_zero_);
@@ -67,6 +76,7 @@ MusclePath PlacementGeometry::at(const JointAngle& angle) const {
   const double joint_angle = angle.radians;
   require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]", joint_angle,
           "must be finite and within [-pi, pi]");
+  if (!centre_.at_joint()) return off_centre_at(angle);
   const auto [d1, w1, d2, w2] = placement_;
   const double r_w = wrist_radius_;
   const double c = angle.cos;
@@ -102,8 +112,40 @@ MusclePath PlacementGeometry::at(const JointAngle& angle) const {
   return path;
 }
 
-MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle) {
-  return PlacementGeometry(placement, wrist_radius).at(joint_angle);
+// The same construction about C: Q1 fixed with the forearm, Q2 the tangent point from P2 (which turns about O), the
+// wrapped arc between them on the muscle's side; the moment arm about O is O->P2 x the unit force direction at P2
+// (towards Q2 when wrapped, towards P1 when straight), which for C = O is Eqn. tau1 and Eqn. tau2.
+MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
+  const auto [d1, w1, d2, w2] = placement_;
+  const double r_w = wrist_radius_;
+  const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
+  const double bx = p2x - centre_.x, by = p2y - centre_.y;                                    // C->P2
+  const double r2 = std::sqrt(bx * bx + by * by);
+  // C->P2's polar angle, continuous in theta: O->P2's, theta + atan2(w2, d2), turned by the angle from O->P2 to C->P2
+  // (under pi/2: validate keeps |OC| below R2).
+  const double polar_p2 = angle.radians + std::atan2(w2, d2) + std::atan2(p2x * by - p2y * bx, p2x * bx + p2y * by);
+  const double q1_polar = std::numbers::pi / 2.0 - tangent_angle_;
+  const double q2_polar = polar_p2 + std::acos(r_w / r2);
+
+  MusclePath path;
+  path.tangent_angle = tangent_angle_;
+  path.wrap_angle = q1_polar - q2_polar;
+  if (path.wrap_angle > 0.0) {
+    path.regime = Regime::kWrapping;
+    path.length = tangent_length1_ + r_w * path.wrap_angle + std::sqrt(r2 * r2 - r_w * r_w);
+    const double ux = centre_.x + r_w * std::cos(q2_polar) - p2x, uy = centre_.y + r_w * std::sin(q2_polar) - p2y;
+    path.moment_arm = (p2x * uy - p2y * ux) / std::sqrt(ux * ux + uy * uy);
+  } else {
+    path.regime = Regime::kStraight;
+    const double ux = -d1 - p2x, uy = w1 - p2y;
+    path.length = std::sqrt(ux * ux + uy * uy);
+    path.moment_arm = (p2x * uy - p2y * ux) / path.length;
+  }
+  return path;
+}
+
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapCentre centre) {
+  return PlacementGeometry(placement, wrist_radius, centre).at(joint_angle);
 }
 
 }  // namespace softwrist::physics

@@ -22,6 +22,12 @@
 //    range, the moment arm is constant"), and torque and length are continuous at the transition. The printed
 //    phi - psi turns Q2 by -2 psi off the tangent point: its moment arm is still constant but a little below r_w
 //    (0.44 % on the torque rig, where psi = 2.75 deg), so the torque would step by that much at the transition.
+//
+// Beyond the paper: the wrist surface's centre C need not be the joint centre O (WrapCentre). The carpal bones the
+// muscles wrap over are fixed to the hand's proximal row and the forearm's distal end, while the instantaneous centre
+// of rotation of flexion/extension lies in the capitate's head and moves a few millimetres over the range (Neu, Crisco
+// & Wolfe, J Biomech 34:1429, 2001; Kaufmann et al., J Hand Surg 30A:937, 2005): C is fixed in the forearm's frame, the
+// hand turns about O. With C = O the path is the paper's exactly (tested).
 
 #include <cmath>
 
@@ -35,6 +41,14 @@ struct Placement {
   double w2 = 0.0;  // hand mount P2: distance from the hand's centre line, on the muscle's side
 };
 
+// The wrist surface's centre C relative to the joint centre O, in the forearm's frame of the muscle's plane (x along
+// the forearm towards the hand, y towards the muscle's side) [m]. (0, 0): the paper's circle about O.
+struct WrapCentre {
+  double x = 0.0;
+  double y = 0.0;
+  bool at_joint() const { return x == 0.0 && y == 0.0; }
+};
+
 enum class Regime { kStraight, kWrapping };
 const char* to_string(Regime regime);
 
@@ -43,15 +57,16 @@ struct MusclePath {
   double length = 0.0;         // L (Eqn. tau1) or L_w (Eqn. length) [m]
   double moment_arm = 0.0;     // torque per newton of muscle force about O [m]
   double wrap_angle = 0.0;     // phi of Eqn. parameters2 [rad]; > 0 exactly when the muscle wraps
-  double tangent_angle = 0.0;  // psi of Eqn. parameters2 [rad]: angle from y to O->Q1, towards x
+  double tangent_angle = 0.0;  // psi of Eqn. parameters2 [rad]: angle from y to C->Q1, towards x
 };
 
 // Throws InvalidParameter unless the placement is finite, d1, d2 > 0, w1, w2 >= 0, r_w > 0 and both mounts lie
-// outside the wrist circle (R1, R2 > r_w: the tangents of Eqn. parameters2 exist).
-void validate(const Placement& placement, double wrist_radius);
+// outside the wrist circle at every joint angle (R1, R2 > r_w about C: the tangents of Eqn. parameters2 exist; the
+// hand mount turns about O, so with C off O it comes within R2 - |OC| of C).
+void validate(const Placement& placement, double wrist_radius, WrapCentre centre = {});
 
 // The muscle's path at a joint angle [rad], |joint_angle| <= pi.
-MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle);
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapCentre centre = {});
 
 // A joint angle with its cosine and sine, for loops that visit the same angles at many placements.
 struct JointAngle {
@@ -63,18 +78,23 @@ struct JointAngle {
 // many angles at one placement (the design objective's reference angles). at(theta) == muscle_path(..., theta).
 class PlacementGeometry {
  public:
-  PlacementGeometry(const Placement& placement, double wrist_radius);  // validate(placement, wrist_radius)
+  // validate(placement, wrist_radius, centre)
+  PlacementGeometry(const Placement& placement, double wrist_radius, WrapCentre centre = {});
   MusclePath at(double joint_angle) const { return at(JointAngle(joint_angle)); }
   MusclePath at(const JointAngle& joint_angle) const;
 
  private:
+  MusclePath off_centre_at(const JointAngle& joint_angle) const;  // C != O: the general construction
+
   Placement placement_;
+  WrapCentre centre_;
   double wrist_radius_, tangent_length1_, tangent_length2_, tangent_angle_, wrap_angle_at_zero_;
   double cos_q2_at_zero_, sin_q2_at_zero_;  // of psi + phi0: Q2's polar angle is psi + phi0 - theta
 };
 
 // The joint angle [rad] at which the muscle stops wrapping: Eqn. parameters2 solved for phi = 0,
-// theta* = pi/2 - (psi + acos(r_w/R2) + asin(w2/R2)). Below it the muscle wraps, above it it runs straight.
+// theta* = pi/2 - (psi + acos(r_w/R2) + asin(w2/R2)). Below it the muscle wraps, above it it runs straight. For the
+// paper's circle about O (WrapCentre at the joint).
 double wrap_transition_angle(const Placement& placement, double wrist_radius);
 
 }  // namespace softwrist::physics

@@ -125,7 +125,7 @@ std::optional<MuscleIndex> muscle_from_name(std::string_view name) {
 
 physics::Muscle DeviceDescription::muscle(int index) const {
   const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
-  return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius};
+  return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius, mount.wrap_centre};
 }
 
 physics::MuscleLaw DeviceDescription::muscle_law(const MuscleMount& mount) const {
@@ -159,10 +159,13 @@ void read_muscle_mounts(Reader muscles, DeviceDescription& device) {
                        cm_to_m(m.number("w2_cm"))};
     mount.rest_length = cm_to_m(m.number("L0_cm"));
     mount.wrist_radius = cm_to_m(m.number("rw_cm"));
+    mount.wrap_centre = {cm_to_m(m.number("wrap_centre_x_cm", 0.0)), cm_to_m(m.number("wrap_centre_y_cm", 0.0))};
     m.finish();
     try {
-      physics::validate(physics::Muscle{
-          {.fpam = device.fpam, .rest_length = mount.rest_length}, mount.placement, mount.wrist_radius});
+      physics::validate(physics::Muscle{{.fpam = device.fpam, .rest_length = mount.rest_length},
+                                        mount.placement,
+                                        mount.wrist_radius,
+                                        mount.wrap_centre});
     } catch (const physics::InvalidParameter& e) {
       m.fail("", e.what());
     }
@@ -292,6 +295,10 @@ std::string device_to_json(const DeviceDescription& device) {
     muscles[kMuscleNames[i]] = {{"d1_cm", m_to_cm(m.placement.d1)}, {"w1_cm", m_to_cm(m.placement.w1)},
                                 {"d2_cm", m_to_cm(m.placement.d2)}, {"w2_cm", m_to_cm(m.placement.w2)},
                                 {"L0_cm", m_to_cm(m.rest_length)},  {"rw_cm", m_to_cm(m.wrist_radius)}};
+    if (!m.wrap_centre.at_joint()) {  // the paper's circle about the joint unless moved
+      muscles[kMuscleNames[i]]["wrap_centre_x_cm"] = m_to_cm(m.wrap_centre.x);
+      muscles[kMuscleNames[i]]["wrap_centre_y_cm"] = m_to_cm(m.wrap_centre.y);
+    }
   }
   const auto& w = device.wrist;
   json root = {

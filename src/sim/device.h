@@ -28,9 +28,10 @@ using physics::MuscleIndex;
 std::optional<MuscleIndex> muscle_from_name(std::string_view name);
 
 struct MuscleMount {
-  physics::Placement placement;  // in the muscle's own plane (torque_geometry.h)
-  double rest_length = 0.0;      // L0 [m]
-  double wrist_radius = 0.0;     // r_w [m] of the wrist surface this muscle wraps around
+  physics::Placement placement;     // in the muscle's own plane (torque_geometry.h)
+  double rest_length = 0.0;         // L0 [m]
+  double wrist_radius = 0.0;        // r_w [m] of the wrist surface this muscle wraps around
+  physics::WrapCentre wrap_centre;  // that surface's centre relative to the joint (torque_geometry.h); paper: at it
 };
 
 // The relaxed wrist and the hand (cited in docs/placement-file.md and the generated model).

@@ -54,13 +54,17 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
     const MuscleMount& m = device.muscles[i];
     const std::array<double, 3>& side = kMuscleSides[i];
     const double r_w = m.wrist_radius;
+    // The wrap cylinder about the wrist circle's centre C (the joint's unless moved, torque_geometry.h), fixed to the
+    // forearm as the 2D law has it; its side site 2 r_w from C on the muscle's side.
+    const double cx = m.wrap_centre.x, cy = m.wrap_centre.y;
+    const std::string cylinder_pos = m.wrap_centre.at_joint() ? "" : fmt::format(" pos=\"{}\"", vec(cx, side, cy));
     forearm_items += fmt::format(
         "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.008\" rgba=\"{5}\"/>\n"
-        "      <geom name=\"{0}_wrap\" type=\"cylinder\" size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
+        "      <geom name=\"{0}_wrap\" type=\"cylinder\"{6} size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
         "conaffinity=\"0\" group=\"3\" rgba=\"0.8 0.8 0.8 0.3\" mass=\"0\"/>\n"
         "      <site name=\"{0}_side\" pos=\"{4}\" size=\"0.002\" group=\"3\"/>\n",
-        name, vec(-m.placement.d1, side, m.placement.w1), r_w, kCylinderQuats[i], vec(0.0, side, 2.0 * r_w),
-        kMountRgba);
+        name, vec(-m.placement.d1, side, m.placement.w1), r_w, kCylinderQuats[i], vec(cx, side, cy + 2.0 * r_w),
+        kMountRgba, cylinder_pos);
     hand_items += fmt::format("        <site name=\"{0}_hand\" pos=\"{1}\" size=\"0.008\" rgba=\"{2}\"/>\n", name,
                               vec(m.placement.d2, side, m.placement.w2), kMountRgba);
     tendons += fmt::format(

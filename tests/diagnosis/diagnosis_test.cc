@@ -498,6 +498,23 @@ TEST_F(DiagnosisTest, ImuAxesTurnedAboutTheForearmAreImuBias) {
   EXPECT_NEAR(param(fit_of(d, EffectId::kImuBias), "axis_roll_deg"), 10.0, 1.0);
 }
 
+// The wrist circle's centre off the joint (physics::WrapCentre: 5 mm towards the hand, 4 mm towards the palm): the
+// flexor's path hugs a circle nearer its hand mount, the extensor's one farther from it. The whole catalogue names
+// wrap_geometry and finds where the centre lies, not another radius.
+TEST_F(DiagnosisTest, WristCircleOffTheJointIsWrapGeometry) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription real = paper_device();
+  for (std::size_t i = 0; i < real.muscles.size(); ++i) {
+    real.muscles[i].wrap_centre = {.x = 0.005, .y = i == sim::kFlexor ? 0.004 : i == sim::kExtensor ? -0.004 : 0.0};
+  }
+  const Diagnosis d = run({.device = real}, paper_device());
+  ASSERT_EQ(d.verdict, "wrap_geometry") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kWrapGeometry);
+  EXPECT_NEAR(param(f, "centre_distal_mm"), 5.0, 1.5);
+  EXPECT_NEAR(param(f, "centre_palmar_mm"), 4.0, 1.5);
+  EXPECT_NEAR(param(f, "wrist_radius_scale"), 1.0, 0.05);
+}
+
 // A relaxed wrist that stiffens towards its limits (physics/relaxed_wrist.h, Riener & Edrich's double exponential)
 // holds each muscle's range of motion back and bends the trajectories near the limits. The whole catalogue names it
 // passive_wrist and recovers the stiffening, not a stiffer linear wrist.

@@ -146,5 +146,67 @@ TEST(MusclePath, RejectsMountsInsideTheWristAndBadAngles) {
                InvalidParameter);
 }
 
+// The wrist circle's centre off the joint (WrapCentre, torque_geometry.h). At the joint, to within a nanometre, the
+// general construction is the paper's path: issue 19's "each extension reduces to it at its neutral parameters".
+TEST(MusclePathOffCentre, ANanometreOffTheJointIsThePapersPath) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  int wrapped = 0, straight = 0;
+  for (const auto& [placement, r_w] : {std::pair{kDesign, kDesignRw}, {rig, 0.0399}}) {
+    for (int deg = -80; deg <= 80; deg += 2) {
+      const MusclePath paper = muscle_path(placement, r_w, deg_to_rad(deg));
+      const MusclePath moved = muscle_path(placement, r_w, deg_to_rad(deg), WrapCentre{.x = 1e-9, .y = -1e-9});
+      ASSERT_EQ(moved.regime, paper.regime) << deg;
+      EXPECT_NEAR(moved.length, paper.length, 1e-8) << deg;
+      EXPECT_NEAR(moved.moment_arm, paper.moment_arm, 1e-7) << deg;
+      EXPECT_NEAR(moved.wrap_angle, paper.wrap_angle, 1e-6) << deg;
+      (paper.regime == Regime::kWrapping ? wrapped : straight) += 1;
+    }
+  }
+  EXPECT_GT(wrapped, 20);
+  EXPECT_GT(straight, 20);
+}
+
+// Virtual work: a muscle pulling with force F along its path turns the joint with F times -dL/dtheta, so the moment
+// arm about O is minus the path length's derivative, whichever point the path wraps around. Checked by central
+// differences with the circle moved 6 mm towards the hand and 5 mm in either direction across the forearm, in both
+// regimes; and the length is continuous where the regime changes.
+TEST(MusclePathOffCentre, MomentArmAboutTheJointIsMinusTheLengthsDerivative) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  constexpr double h = 1e-6;
+  for (const WrapCentre centre : {WrapCentre{.x = 0.006, .y = 0.005}, WrapCentre{.x = -0.004, .y = -0.005}}) {
+    int wrapped = 0, straight = 0;
+    for (int deg = -75; deg <= 75; ++deg) {
+      const double theta = deg_to_rad(deg);
+      const MusclePath path = muscle_path(rig, 0.0399, theta, centre);
+      const double derivative =
+          (muscle_path(rig, 0.0399, theta + h, centre).length - muscle_path(rig, 0.0399, theta - h, centre).length) /
+          (2.0 * h);
+      EXPECT_NEAR(path.moment_arm, -derivative, 1e-6) << deg << " deg, centre " << centre.x << ", " << centre.y;
+      (path.regime == Regime::kWrapping ? wrapped : straight) += 1;
+      const MusclePath next = muscle_path(rig, 0.0399, deg_to_rad(deg + 1), centre);
+      EXPECT_LT(std::abs(next.length - path.length), 0.002) << deg;  // no jump at the transition
+    }
+    EXPECT_GT(wrapped, 10);
+    EXPECT_GT(straight, 10);
+    // Straight, the path is the segment P1P2 whatever the centre.
+    const double theta = deg_to_rad(75.0);
+    const Point p1 = forearm_mount(rig), p2 = hand_mount(rig, theta);
+    EXPECT_NEAR(muscle_path(rig, 0.0399, theta, centre).length, std::hypot(p2.x - p1.x, p2.y - p1.y), 1e-12);
+  }
+}
+
+// A circle moved so far that the turning hand mount would come within r_w of its centre is refused, naming why.
+TEST(MusclePathOffCentre, RejectsACentreTheHandMountWouldEnter) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  const double r2 = std::hypot(rig.d2, rig.w2);
+  try {
+    muscle_path(rig, 0.0399, 0.0, WrapCentre{.x = r2 - 0.0399, .y = 0.0});
+    FAIL();
+  } catch (const InvalidParameter& e) {
+    EXPECT_NE(std::string(e.what()).find("R2 - |OC|"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapCentre{.x = std::nan(""), .y = 0.0}), InvalidParameter);
+}
+
 }  // namespace
 }  // namespace softwrist::physics

@@ -56,6 +56,15 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_EQ(parse_device(curved_text, "x.json").fpam.fabric(), curved.fpam.fabric());
   EXPECT_EQ(device_to_json(parse_device(curved_text, "x.json")), curved_text);
   EXPECT_EQ(text.find("\"fabric\""), std::string::npos);
+  // A wrist circle off the joint (physics::WrapCentre) likewise; at the joint, nothing is written.
+  DeviceDescription moved = d;
+  moved.muscles[kUlnar].wrap_centre = {.x = 0.004, .y = -0.003};
+  const std::string moved_text = device_to_json(moved);
+  EXPECT_NE(moved_text.find("wrap_centre_x_cm"), std::string::npos);
+  EXPECT_NEAR(parse_device(moved_text, "x.json").muscles[kUlnar].wrap_centre.y, -0.003, 1e-15);
+  EXPECT_TRUE(parse_device(moved_text, "x.json").muscles[kFlexor].wrap_centre.at_joint());
+  EXPECT_EQ(device_to_json(parse_device(moved_text, "x.json")), moved_text);
+  EXPECT_EQ(text.find("wrap_centre"), std::string::npos);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
@@ -81,6 +90,8 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["muscles"]["flexor"]["d1_cm"] = "far"; }), "muscles.flexor.d1_cm: must be a number"},
       {with([](auto& j) { j["muscles"]["flexor"]["L0_cm"] = -3; }), "muscles.flexor: rest_length"},
       {with([](auto& j) { j["muscles"]["ulnar"]["rw_cm"] = 4; }), "muscles.ulnar: hand mount distance R2"},
+      {with([](auto& j) { j["muscles"]["flexor"]["wrap_centre_x_cm"] = 8; }),
+       "muscles.flexor: hand mount distance R2 - |OC|"},
       {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
       {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
       {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
