@@ -162,8 +162,40 @@ struct Combination {
   Predictions full;  // its predictions on all the data
 };
 
+// Where the combination is refitted jointly anyway (a calibration), an effect that does not help on top of it may
+// still belong in it: one that joined earlier took its part while it was missing (a relaxed wrist fitted stiffer
+// stands in for soft mounts, and the mounts then add nothing on top). Each try is added and the whole combination
+// refitted together (joint_refit.h); the first whose joint model cuts the held-out error by min_gain, its bootstrap
+// interval above zero (where informative), joins with the refitted values. Returns whether one joined.
+bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<EffectFit>& tries,
+                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options, bool informative,
+                     std::uint64_t seed) {
+  const UnitSums before = problem.heldout_sums(c.full);
+  const double e0 = problem.heldout_error(before);
+  for (EffectFit& t : tries) {
+    if (!t.applicable || !(e0 > 0.0)) continue;
+    std::vector<EffectFit> joint = c.effects;
+    joint.push_back(t);
+    ModelVariant model = refit_jointly(problem, joint, nominal_device, options);
+    Predictions full = problem.evaluate(model, false);
+    const UnitSums after = problem.heldout_sums(full);
+    joint.back().heldout_error_before = e0;
+    joint.back().heldout_error_after = problem.heldout_error(after);
+    joint.back().shrink_fraction = fraction_closed(e0, joint.back().heldout_error_after);
+    std::tie(joint.back().ci_low, joint.back().ci_high) =
+        bootstrap_interval(problem, before, after, options.bootstrap, seed);
+    if (joint.back().shrink_fraction < options.min_gain || (informative && !(joint.back().ci_low > 0.0))) continue;
+    c.effects = std::move(joint);
+    c.model = std::move(model);
+    c.full = std::move(full);
+    return true;
+  }
+  return false;
+}
+
 // Greedy combination: the best effect first, then whichever of the next candidates cuts the remaining held-out
-// error most, while each cut is at least min_gain of it and its bootstrap interval stays above zero.
+// error most, while each cut is at least min_gain of it and its bootstrap interval stays above zero (with a joint
+// refit where the options ask for one, join_with_refit).
 Combination combine_greedily(const GapProblem& problem, const std::vector<EffectFit>& single_fits,
                              const ModelVariant& nominal, const Predictions& nominal_training,
                              const Predictions& nominal_full, const sim::DeviceDescription& nominal_device,
@@ -195,15 +227,19 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
       });
       round_seed += 100;
     }
-    const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50);
-    if (leader == tries.size()) break;
-    const auto best = tries.begin() + static_cast<std::ptrdiff_t>(leader);
-    if (!helps(*best)) break;
-    apply_effect(best->id, best->values, c.model);
-    candidates.erase(std::find(candidates.begin(), candidates.end(), best->id));
-    c.effects.push_back(*best);
+    // Of the tries that would join (helps), the leader of the round; none joins when none helps.
+    const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50, helps);
+    if (leader < tries.size()) {
+      const auto best = tries.begin() + static_cast<std::ptrdiff_t>(leader);
+      apply_effect(best->id, best->values, c.model);
+      c.effects.push_back(*best);
+      c.full = problem.evaluate(c.model, false);
+    } else if (c.effects.empty() || options.joint_refit_evaluations <= 0 ||
+               !join_with_refit(problem, c, tries, nominal_device, options, informative, round_seed + 70)) {
+      break;
+    }
+    candidates.erase(std::find(candidates.begin(), candidates.end(), c.effects.back().id));
     current_training = problem.evaluate(c.model, true);
-    c.full = problem.evaluate(c.model, false);
   }
   return c;
 }

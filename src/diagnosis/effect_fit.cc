@@ -162,17 +162,18 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
 }
 
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
-                            std::uint64_t seed) {
+                            std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible) {
+  const auto competes = [&](const EffectFit& f) { return f.applicable && (!eligible || eligible(f)); };
   std::size_t best = fits.size();
   for (std::size_t k = 0; k < fits.size(); ++k) {
-    if (fits[k].applicable && (best == fits.size() || fits[k].heldout_error_after < fits[best].heldout_error_after))
+    if (competes(fits[k]) && (best == fits.size() || fits[k].heldout_error_after < fits[best].heldout_error_after))
       best = k;
   }
   if (best == fits.size()) return best;
   std::size_t leader = best;
   for (std::size_t k = 0; k < fits.size(); ++k) {
     EffectFit& f = fits[k];
-    if (!f.applicable) continue;
+    if (!competes(f)) continue;
     f.se_of_difference_to_best = k == best
                                      ? 0.0
                                      : paired_difference_se(problem, f.heldout_after_sums,

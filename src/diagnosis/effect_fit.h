@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "diagnosis/diagnosis.h"
@@ -32,8 +33,9 @@ std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const
 // lowest error; otherwise the lowest error. The held-out error already charges an effect for fitting noise; the rule
 // adds parsimony only among what the data cannot separate. Records each fit's standard error and whether it is
 // within one.
+// Only fits that `eligible` accepts compete (all applicable ones when it is empty).
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
-                            std::uint64_t seed);
+                            std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});
 
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -80,6 +81,10 @@ TEST(RealisticCalibration, RecoversInjectedEffectsAndWritesALoadableCalibratedFi
 
   const Calibration c =
       calibrate_from_logs(dir / "routine", sim::load_device(kSource / "models/rom_device.json"), {.bootstrap = 20});
+  std::string fits;  // for a failure's message: every effect fitted alone, and what joined
+  for (const auto& f : c.diagnosis.effects) fits += fmt::format(" {} {:.3f};", f.name, f.shrink_fraction);
+  for (const auto& f : c.diagnosis.combination) fits += fmt::format(" joined {} {:.3f};", f.name, f.shrink_fraction);
+  SCOPED_TRACE(fits);
   EXPECT_THAT(c.effects_applied, Contains("regulator_lag"));
   EXPECT_THAT(c.effects_applied, Contains("mount_stretch"));
   EXPECT_THAT(c.effects_applied, Contains("passive_wrist"));
