@@ -172,8 +172,9 @@ bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<Effe
                      std::uint64_t seed) {
   const UnitSums before = problem.heldout_sums(c.full);
   const double e0 = problem.heldout_error(before);
+  if (!(e0 > 0.0)) return false;  // nothing left to cut
   for (EffectFit& t : tries) {
-    if (!t.applicable || !(e0 > 0.0)) continue;
+    if (!t.applicable) continue;
     std::vector<EffectFit> joint = c.effects;
     joint.push_back(t);
     ModelVariant model = refit_jointly(problem, joint, nominal_device, options);

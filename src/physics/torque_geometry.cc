@@ -27,8 +27,8 @@ void validate(const Placement& placement, double wrist_radius, WrapCentre centre
                                     {"wrap centre y [m]", std::abs(centre.y)}}) {
     require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
   }
-  require(std::hypot(placement.d1 + centre.x, placement.w1 - centre.y) > wrist_radius, "forearm mount distance R1 [m]",
-          std::hypot(placement.d1 + centre.x, placement.w1 - centre.y),
+  const double r1 = std::hypot(placement.d1 + centre.x, placement.w1 - centre.y);  // |P1 - C|
+  require(r1 > wrist_radius, "forearm mount distance R1 [m]", r1,
           "must exceed the wrist radius r_w (mount outside the wrist)");
   // The hand mount turns about O: its closest approach to C is R2 - |OC|.
   const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(centre.x, centre.y);
@@ -45,6 +45,15 @@ double tangent_angle(const Placement& placement, double r_w, WrapCentre centre =
   const double x = -placement.d1 - centre.x, y = placement.w1 - centre.y;
   const double q1_polar = std::atan2(y, x) - std::acos(r_w / std::hypot(x, y));
   return std::numbers::pi / 2.0 - q1_polar;
+}
+
+// Eqn. tau1: the straight segment P1P2 (P2 = (p2x, p2y) at an angle of cosine c and sine s), whatever the wrist
+// circle, which it does not touch (sqrt rather than std::hypot: PlacementGeometry::at says why).
+void set_straight(MusclePath& path, const Placement& p, double c, double s, double p2x, double p2y) {
+  path.regime = Regime::kStraight;
+  const double ux = -p.d1 - p2x, uy = p.w1 - p2y;
+  path.length = std::sqrt(ux * ux + uy * uy);
+  path.moment_arm = ((p.d1 * p.d2 - p.w1 * p.w2) * s + (p.d1 * p.w2 + p.d2 * p.w1) * c) / path.length;
 }
 
 // Eqn. parameters2 at joint angle 0: phi(theta) = phi0 - theta.
@@ -77,7 +86,7 @@ MusclePath PlacementGeometry::at(const JointAngle& angle) const {
   require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]", joint_angle,
           "must be finite and within [-pi, pi]");
   if (!centre_.at_joint()) return off_centre_at(angle);
-  const auto [d1, w1, d2, w2] = placement_;
+  const double d2 = placement_.d2, w2 = placement_.w2;
   const double r_w = wrist_radius_;
   const double c = angle.cos;
   const double s = angle.sin;
@@ -104,19 +113,16 @@ MusclePath PlacementGeometry::at(const JointAngle& angle) const {
     const double p2q2 = distance(r_w * sin_q2 - p2x, r_w * cos_q2 - p2y);
     path.moment_arm = r_w / p2q2 * (p2x * cos_q2 - p2y * sin_q2);
   } else {
-    path.regime = Regime::kStraight;
-    // Eqn. tau1.
-    path.length = distance(-d1 - p2x, w1 - p2y);
-    path.moment_arm = ((d1 * d2 - w1 * w2) * s + (d1 * w2 + d2 * w1) * c) / path.length;
+    set_straight(path, placement_, c, s, p2x, p2y);
   }
   return path;
 }
 
 // The same construction about C: Q1 fixed with the forearm, Q2 the tangent point from P2 (which turns about O), the
 // wrapped arc between them on the muscle's side; the moment arm about O is O->P2 x the unit force direction at P2
-// (towards Q2 when wrapped, towards P1 when straight), which for C = O is Eqn. tau1 and Eqn. tau2.
+// (towards Q2 when wrapped), which for C = O is Eqn. tau2; straight, the path is Eqn. tau1's whatever C.
 MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
-  const auto [d1, w1, d2, w2] = placement_;
+  const double d2 = placement_.d2, w2 = placement_.w2;
   const double r_w = wrist_radius_;
   const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
   const double bx = p2x - centre_.x, by = p2y - centre_.y;                                    // C->P2
@@ -136,10 +142,7 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
     const double ux = centre_.x + r_w * std::cos(q2_polar) - p2x, uy = centre_.y + r_w * std::sin(q2_polar) - p2y;
     path.moment_arm = (p2x * uy - p2y * ux) / std::sqrt(ux * ux + uy * uy);
   } else {
-    path.regime = Regime::kStraight;
-    const double ux = -d1 - p2x, uy = w1 - p2y;
-    path.length = std::sqrt(ux * ux + uy * uy);
-    path.moment_arm = (p2x * uy - p2y * ux) / path.length;
+    set_straight(path, placement_, angle.cos, angle.sin, p2x, p2y);
   }
   return path;
 }
