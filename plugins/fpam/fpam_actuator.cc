@@ -6,6 +6,7 @@
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
 #include "physics/mount_stretch.h"
+#include "physics/pressure_regulator.h"
 #include "physics/units.h"
 
 namespace softwrist::plugin {
@@ -22,11 +23,17 @@ FpamActuator::FpamActuator(FpamConfig config)
 
 double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) const {
   if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa)) return 0.0;
-  const double error_kpa = std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa) - regulated_kpa;
-  // First order, with the venting time constant while the pressure falls where it has one (sim::Regulator).
-  const double tau =
-      error_kpa < 0.0 && config_.vent_time_constant > 0.0 ? config_.vent_time_constant : config_.time_constant;
-  return error_kpa / tau;
+  return physics::pressure_rate(config_.regulator, std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa),
+                                regulated_kpa);
+}
+
+FpamActuator::SecondOrderRates FpamActuator::SecondOrderStep(double commanded_kpa, double regulated_kpa,
+                                                             double rate_kpa_per_s, double dt) const {
+  if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa) || !std::isfinite(rate_kpa_per_s) || !(dt > 0.0))
+    return {};
+  const physics::RegulatedPressure after = physics::regulator_step(
+      config_.regulator, {regulated_kpa, rate_kpa_per_s}, std::clamp(commanded_kpa, 0.0, config_.max_pressure_kpa), dt);
+  return {(after.pressure - regulated_kpa) / dt, (after.rate - rate_kpa_per_s) / dt};
 }
 
 double FpamActuator::Force(double tendon_length, double regulated_kpa, double branch) const {

@@ -7,9 +7,9 @@
 // touches only the adapter.
 //
 // Semantics: ctrl is the commanded pressure [kPa]; the actuator's activation is the regulated pressure [kPa], with
-// first-order regulator dynamics, clamped to [0, max_pressure_kpa]. The force is physics::MuscleLaw's at the tendon's
-// length: Eqn. force, with the mounts' stretch (Eqn. fabric_stretching) shortening the effective length; it pulls
-// (negative along the tendon).
+// first- or second-order regulator dynamics (physics/pressure_regulator.h), clamped to [0, max_pressure_kpa]. The force
+// is physics::MuscleLaw's at the tendon's length: Eqn. force, with the mounts' stretch (Eqn. fabric_stretching)
+// shortening the effective length; it pulls (negative along the tendon).
 
 #include <optional>
 #include <string>
@@ -29,8 +29,17 @@ class FpamActuator {
   static std::optional<FpamActuator> Create(const PluginConfig& config, std::string_view actuator_name,
                                             std::string* error);
 
-  // Regulator dynamics: d(regulated)/dt [kPa/s] towards the commanded pressure clamped to [0, max].
+  // Regulator dynamics: d(regulated)/dt [kPa/s] towards the commanded pressure clamped to [0, max]
+  // (physics/pressure_regulator.h; first order).
   double PressureRate(double commanded_kpa, double regulated_kpa) const;
+  // A second-order regulator's rates of the regulated pressure [kPa/s] and of its rate [kPa/s^2] that carry an
+  // explicit step of dt [s] to the exact state (physics::regulator_step): MuJoCo 2.2.2 integrates activations with
+  // Euler's step, which is then exact and stable however fast the second pole. Zero rates for a non-finite input.
+  struct SecondOrderRates {
+    double pressure = 0.0;
+    double pressure_rate = 0.0;
+  };
+  SecondOrderRates SecondOrderStep(double commanded_kpa, double regulated_kpa, double rate_kpa_per_s, double dt) const;
   // The fPAM's pull [N] at the tendon's length [m] and the regulated pressure [kPa] (clamped to [0, max]), on the
   // hysteresis branch `branch` (physics/fpam_hysteresis.h; ignored without hysteresis); 0 for a non-finite input (a
   // diverged simulation must not throw through MuJoCo's C code).

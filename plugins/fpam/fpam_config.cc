@@ -165,16 +165,22 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
   if (read.ok() && result.max_pressure_kpa > units::pa_to_kpa(physics::plausible::kMaxPressure)) {
     read.Fail(kMaxPressureKpa, "must be at most 1000 (kPa)");
   }
-  result.time_constant = read.Positive(kTimeConstant, result.time_constant);
-  if (read.ok() && !(result.time_constant >= physics::plausible::kMinTimeConstant &&
-                     result.time_constant <= physics::plausible::kMaxTimeConstant)) {
+  physics::RegulatorResponse& regulator = result.regulator;
+  regulator.time_constant = read.Positive(kTimeConstant, regulator.time_constant);
+  if (read.ok() && !(regulator.time_constant >= physics::plausible::kMinTimeConstant &&
+                     regulator.time_constant <= physics::plausible::kMaxTimeConstant)) {
     read.Fail(kTimeConstant, "must lie in [0.001, 100] (s; MuJoCo integrates the regulator in 1 ms steps)");
   }
-  result.vent_time_constant = read.Number(kVentTimeConstant, 0.0);
-  if (read.ok() && result.vent_time_constant != 0.0 &&
-      !(result.vent_time_constant >= physics::plausible::kMinTimeConstant &&
-        result.vent_time_constant <= physics::plausible::kMaxTimeConstant)) {
+  regulator.vent_time_constant = read.Number(kVentTimeConstant, 0.0);
+  if (read.ok() && regulator.vent_time_constant != 0.0 &&
+      !(regulator.vent_time_constant >= physics::plausible::kMinTimeConstant &&
+        regulator.vent_time_constant <= physics::plausible::kMaxTimeConstant)) {
     read.Fail(kVentTimeConstant, "must be 0 (as time_constant) or lie in [0.001, 100] (s)");
+  }
+  regulator.second_order_time = read.Number(kSecondOrderTime, 0.0);
+  if (read.ok() &&
+      !(regulator.second_order_time >= 0.0 && regulator.second_order_time <= physics::plausible::kMaxTimeConstant)) {
+    read.Fail(kSecondOrderTime, "must lie in [0, 100] (s; 0: a first-order regulator)");
   }
   result.hysteresis.fraction = read.Number(kHysteresis, 0.0);
   result.hysteresis.transition_length = read.Positive(kHysteresisLength, result.hysteresis.transition_length);
@@ -213,8 +219,12 @@ std::string FpamConfig::ToText() const {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kForearmStiffness, law.mount_stiffness.forearm, kHandStiffness,
                         law.mount_stiffness.hand);
   }
-  text += fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, time_constant);
-  if (vent_time_constant > 0.0) text += fmt::format(" {}={:.10g}", kVentTimeConstant, vent_time_constant);
+  text +=
+      fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, regulator.time_constant);
+  if (regulator.vent_time_constant > 0.0)
+    text += fmt::format(" {}={:.10g}", kVentTimeConstant, regulator.vent_time_constant);
+  if (regulator.second_order_time > 0.0)
+    text += fmt::format(" {}={:.10g}", kSecondOrderTime, regulator.second_order_time);
   if (hysteresis.active()) {
     text += fmt::format(" {}={:.10g} {}={:.10g} {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction,
                         kHysteresisLength, hysteresis.transition_length, kHysteresisFriction, hysteresis.friction_force,

@@ -12,6 +12,7 @@
 #include "physics/exosuit_layout.h"
 #include "physics/fpam_hysteresis.h"
 #include "physics/muscle_law.h"
+#include "physics/pressure_regulator.h"
 #include "plugin_config.h"
 
 namespace softwrist::plugin {
@@ -36,11 +37,12 @@ struct FpamConfig {
   static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";         // default 137
   static constexpr std::string_view kTimeConstant = "time_constant";              // regulator [s], default 0.1
   static constexpr std::string_view kVentTimeConstant = "vent_time_constant";     // while venting [s], default 0 (same)
+  static constexpr std::string_view kSecondOrderTime = "second_order_time";       // regulator's tau2 [s], default 0
   static constexpr std::string_view kHysteresis = "hysteresis";                   // h, default 0 (none)
   static constexpr std::string_view kHysteresisLength = "hysteresis_length";      // l_h [m], default 0.002
   static constexpr std::string_view kHysteresisFriction = "hysteresis_friction";  // F_0 [N], default 0
   static constexpr std::string_view kHysteresisPressureFriction = "hysteresis_pressure_friction";  // mu, default 0
-  static constexpr std::array<std::string_view, 20> kAttributes = {kRestLength,
+  static constexpr std::array<std::string_view, 21> kAttributes = {kRestLength,
                                                                    kRadius,
                                                                    kMaxContraction,
                                                                    kTablePressureKpa,
@@ -56,6 +58,7 @@ struct FpamConfig {
                                                                    kMaxPressureKpa,
                                                                    kTimeConstant,
                                                                    kVentTimeConstant,
+                                                                   kSecondOrderTime,
                                                                    kHysteresis,
                                                                    kHysteresisLength,
                                                                    kHysteresisFriction,
@@ -67,19 +70,22 @@ struct FpamConfig {
   // no force of its own. Its activation's rate is Dahl's ds/dt from the tendon's velocity.
   static constexpr std::string_view kHysteresisStatePlugin = "softwrist.fpam.hysteresis_state";
   static constexpr std::string_view kHysteresisStateSuffix = "_hysteresis";
+  // Likewise a second-order regulator (physics/pressure_regulator.h) keeps its pressure's rate in a companion named
+  // ACTUATOR + kPressureRateSuffix, configured as kPressureRatePlugin.
+  static constexpr std::string_view kPressureRatePlugin = "softwrist.fpam.pressure_rate";
+  static constexpr std::string_view kPressureRateSuffix = "_pressure_rate";
 
   physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
   double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;
-  double time_constant = 0.1;          // [s]
-  double vent_time_constant = 0.0;     // [s] while the pressure falls; 0: time_constant (sim::Regulator)
-  physics::FpamHysteresis hysteresis;  // none by default: the paper's static law
+  physics::RegulatorResponse regulator;  // the pressure's response to the command (sim::Regulator)
+  physics::FpamHysteresis hysteresis;    // none by default: the paper's static law
 
   // Reads and validates a configuration. On error returns nullopt and sets *error to "actuator 'NAME': attribute
   // 'KEY': problem" (or "actuator 'NAME': problem" for one that concerns several attributes).
   static std::optional<FpamConfig> FromConfig(const PluginConfig& config, std::string_view actuator_name,
                                               std::string* error);
   // "softwrist.fpam key=value ...": every attribute that applies (K1 and K2 only when the mounts stretch, the
-  // hysteresis only when it is not zero, so that a model without it reads as before), in
+  // hysteresis and the regulator's second order only when not zero, so that a model without them reads as before), in
   // kAttributes' order, numbers to 10 significant digits.
   std::string ToText() const;
 };

@@ -5,7 +5,8 @@
 //  - mjcb_act_gain: 0 (the force is not linear in the activation);
 //  - mjcb_act_bias: minus the fPAM's pull at the tendon's length and the regulated pressure (act).
 // A muscle with hysteresis has a companion actuator on its tendon (FpamConfig::kHysteresisStatePlugin) whose act is
-// the hysteresis branch: act_dyn gives Dahl's rate from the tendon's velocity, and its force is 0.
+// the hysteresis branch: act_dyn gives Dahl's rate from the tendon's velocity, and its force is 0. A muscle whose
+// regulator is of second order has one (kPressureRatePlugin) whose act is the regulated pressure's rate.
 // This is the only file that sees mjModel/mjData; moving to MuJoCo 3 replaces it with an mjpPlugin registration.
 //
 // Global state: MuJoCo 2.2.2's callbacks are process-wide function pointers, so this file keeps the one registry a
@@ -19,6 +20,7 @@
 #include <mutex>
 #include <shared_mutex>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -33,12 +35,16 @@
 namespace softwrist::plugin {
 namespace {
 
-// What each actuator of an attached model is to the plugin (indexed by actuator id): an fPAM (with the id of its
-// hysteresis state's actuator, if any), the hysteresis state of the fPAM `state_of`, or nothing of ours.
+// What each actuator of an attached model is to the plugin (indexed by actuator id): an fPAM (with the ids of its
+// companions holding its hysteresis branch and its pressure's rate, if any), a companion of the fPAM `companion_of`,
+// or nothing of ours.
+enum class Companion { kNone, kHysteresisState, kPressureRate };
 struct Instance {
   std::optional<FpamActuator> fpam;
-  int state_actuator = -1;
-  int state_of = -1;
+  int hysteresis_actuator = -1;
+  int rate_actuator = -1;
+  Companion companion = Companion::kNone;
+  int companion_of = -1;
 };
 using Instances = std::vector<Instance>;
 
@@ -84,19 +90,51 @@ int ActivationIndex(const mjModel* m, int id) { return id - (m->nu - m->na); }
 mjtNum ActDyn(const mjModel* m, const mjData* d, int id) {
   const Instance* instance = Find(m, id);
   if (instance == nullptr) return 0;
-  if (instance->fpam) return instance->fpam->PressureRate(d->ctrl[id], d->act[ActivationIndex(m, id)]);
-  if (instance->state_of < 0) return 0;
-  const Instance* muscle = Find(m, instance->state_of);
-  return muscle->fpam->BranchRate(d->act[ActivationIndex(m, id)], d->actuator_velocity[id]);
+  const auto act = [&](int actuator) { return d->act[ActivationIndex(m, actuator)]; };
+  const int muscle_id = instance->fpam ? id : instance->companion_of;
+  if (muscle_id < 0) return 0;
+  const Instance* muscle = instance->fpam ? instance : Find(m, muscle_id);
+  const FpamActuator& fpam = *muscle->fpam;
+  if (instance->companion == Companion::kHysteresisState) return fpam.BranchRate(act(id), d->actuator_velocity[id]);
+  if (muscle->rate_actuator < 0) return fpam.PressureRate(d->ctrl[id], act(id));
+  const auto rates =
+      fpam.SecondOrderStep(d->ctrl[muscle_id], act(muscle_id), act(muscle->rate_actuator), m->opt.timestep);
+  return instance->fpam ? rates.pressure : rates.pressure_rate;
 }
 
 mjtNum ActGain(const mjModel*, const mjData*, int) { return 0; }
 
 mjtNum ActBias(const mjModel* m, const mjData* d, int id) {
   const Instance* instance = Find(m, id);
-  if (instance == nullptr || !instance->fpam) return 0;  // a hysteresis state pulls nothing
-  const double branch = instance->state_actuator >= 0 ? d->act[ActivationIndex(m, instance->state_actuator)] : 0.0;
+  if (instance == nullptr || !instance->fpam) return 0;  // a companion pulls nothing
+  const int state = instance->hysteresis_actuator;
+  const double branch = state >= 0 ? d->act[ActivationIndex(m, state)] : 0.0;
   return -instance->fpam->Force(d->actuator_length[id], d->act[ActivationIndex(m, id)], branch);
+}
+
+// The companion of kind `kind` of the fPAM `id`: the actuator ACTUATOR + suffix configured as the companion's plugin,
+// on the same tendon. Its id, or -1 with the problem and the actuator it concerns.
+int FindCompanion(const mjModel* m, int id, Companion kind, std::string* problem, int* blame) {
+  const bool state = kind == Companion::kHysteresisState;
+  const std::string_view suffix = state ? FpamConfig::kHysteresisStateSuffix : FpamConfig::kPressureRateSuffix;
+  const std::string_view plugin = state ? FpamConfig::kHysteresisStatePlugin : FpamConfig::kPressureRatePlugin;
+  const std::string name = actuator_name(m, id) + std::string(suffix);
+  const int companion = mj_name2id(m, mjOBJ_ACTUATOR, name.c_str());
+  const int text = companion < 0 ? -1 : mj_name2id(m, mjOBJ_TEXT, config_text_name(name).c_str());
+  std::string ignored;
+  const auto config = text < 0 ? std::nullopt : PluginConfig::Parse(m->text_data + m->text_adr[text], &ignored);
+  if (!config || config->plugin_name() != plugin) {
+    *problem = std::string(state ? "has hysteresis" : "has a second-order regulator") + " but no actuator '" + name +
+               "' configured as " + std::string(plugin) + " to hold its " + (state ? "state" : "pressure's rate");
+    return -1;
+  }
+  if (m->actuator_trntype[companion] != m->actuator_trntype[id] ||
+      m->actuator_trnid[2 * companion] != m->actuator_trnid[2 * id]) {
+    *problem = "must act on the same tendon as '" + actuator_name(m, id) + "'";
+    *blame = companion;
+    return -1;
+  }
+  return companion;
 }
 
 void CopyError(const std::string& message, char* error, int error_size) {
@@ -129,8 +167,8 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_register() {
 }
 
 // Creates the instances for every actuator of `m` configured for softwrist.fpam, and pairs each fPAM with hysteresis
-// with its state's actuator. Returns how many fPAMs, or -1 with the reason in `error` (naming the actuator and the
-// attribute) when any configuration is invalid.
+// or a second-order regulator with its companions. Returns how many fPAMs, or -1 with the reason in `error` (naming the
+// actuator and the attribute) when any configuration is invalid.
 SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* error, int error_size) {
   using namespace softwrist::plugin;
   auto instances = std::make_shared<Instances>(static_cast<std::size_t>(m->nu));
@@ -146,8 +184,9 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
     const auto config = PluginConfig::Parse(m->text_data + m->text_adr[text], &message);
     if (!config) return fail(id, message);
     const bool fpam = config->plugin_name() == FpamActuator::kPluginName;
-    const bool state = config->plugin_name() == FpamConfig::kHysteresisStatePlugin;
-    if (!fpam && !state) continue;
+    const bool companion = config->plugin_name() == FpamConfig::kHysteresisStatePlugin ||
+                           config->plugin_name() == FpamConfig::kPressureRatePlugin;
+    if (!fpam && !companion) continue;
     // The force is not linear in the activation: a gain of 0, fixed (MuJoCo then calls no gain hook, which the
     // plugin's cost is measured with, `softwrist bench sim`) or from the user hook, which returns 0.
     const bool zero_gain = m->actuator_gaintype[id] == mjGAIN_USER ||
@@ -156,7 +195,7 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
       return fail(id, config->plugin_name() +
                           " needs dyntype and biastype 'user', and gaintype 'user' or 'fixed' with gainprm 0");
     }
-    if (state) continue;  // paired with its fPAM below
+    if (companion) continue;  // paired with its fPAM below
     auto actuator = FpamActuator::Create(*config, actuator_name(m, id), &message);
     if (!actuator) {
       CopyError(message, error, error_size);
@@ -167,20 +206,22 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
   }
   for (int id = 0; id < m->nu; ++id) {
     Instance& muscle = (*instances)[static_cast<std::size_t>(id)];
-    if (!muscle.fpam || !muscle.fpam->config().hysteresis.active()) continue;
-    const std::string state_name = actuator_name(m, id) + std::string(FpamConfig::kHysteresisStateSuffix);
-    const int state = mj_name2id(m, mjOBJ_ACTUATOR, state_name.c_str());
-    const int text = state < 0 ? -1 : mj_name2id(m, mjOBJ_TEXT, config_text_name(state_name).c_str());
-    const auto config = text < 0 ? std::nullopt : PluginConfig::Parse(m->text_data + m->text_adr[text], &message);
-    if (!config || config->plugin_name() != FpamConfig::kHysteresisStatePlugin) {
-      return fail(id, "has hysteresis but no actuator '" + state_name + "' configured as " +
-                          std::string(FpamConfig::kHysteresisStatePlugin) + " to hold its state");
+    if (!muscle.fpam) continue;
+    const FpamConfig& config = muscle.fpam->config();
+    for (const auto& [needed, kind, slot] :
+         {std::tuple{config.hysteresis.active(), Companion::kHysteresisState, &muscle.hysteresis_actuator},
+          std::tuple{config.regulator.second_order(), Companion::kPressureRate, &muscle.rate_actuator}}) {
+      if (!needed) continue;
+      // The rates make one explicit step exact (FpamActuator::SecondOrderStep); RK4 would take them as slopes.
+      if (kind == Companion::kPressureRate && m->opt.integrator == mjINT_RK4)
+        return fail(id, "a second-order regulator needs the Euler integrator, not RK4");
+      int blame = id;
+      const int companion = FindCompanion(m, id, kind, &message, &blame);
+      if (companion < 0) return fail(blame, message);
+      *slot = companion;
+      (*instances)[static_cast<std::size_t>(companion)].companion = kind;
+      (*instances)[static_cast<std::size_t>(companion)].companion_of = id;
     }
-    if (m->actuator_trntype[state] != m->actuator_trntype[id] ||
-        m->actuator_trnid[2 * state] != m->actuator_trnid[2 * id])
-      return fail(state, "must act on the same tendon as '" + actuator_name(m, id) + "'");
-    muscle.state_actuator = state;
-    (*instances)[static_cast<std::size_t>(state)].state_of = id;
   }
   std::unique_lock lock(RegistryMutex());
   Registry()[m] = std::move(instances);

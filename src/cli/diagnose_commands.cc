@@ -99,8 +99,10 @@ struct SynthesizeOptions {
   std::string mount_stiffness;  // K1,K2 in N/cm^2
   double dead_time_s = 0.0, imu_latency_s = 0.0, hysteresis = 0.0, wrist_radius_scale = 1.0;
   double stiffness_scale = 1.0, limit_stiffening_nm = 0.0, time_constant_s = -1.0, r0_scale = 1.0, eps_max_shift = 0.0;
+  double second_order_time_s = 0.0;
   std::string imu_offset_deg;  // fe,ur
   double trajectory_s = 24.0;
+  bool trajectory_steps = false;
   int repetitions = 3;
   bool no_measured_pressures = false;
   std::uint64_t seed = 1;
@@ -137,6 +139,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   d.wrist.stiffness_ur *= o.stiffness_scale;
   d.wrist.limit_stiffening.torque += o.limit_stiffening_nm;
   if (o.time_constant_s > 0) d.regulator.time_constant = o.time_constant_s;
+  d.regulator.second_order_time = o.second_order_time_s;  // checked with the description below
   std::vector<physics::FpamTableRow> rows = d.fpam.rows();
   for (auto& row : rows) {
     row.radius *= o.r0_scale;
@@ -148,6 +151,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
                                   {.measured_pressures = !o.no_measured_pressures,
                                    .repetitions = o.repetitions,
                                    .trajectory_s = o.trajectory_s,
+                                   .trajectory_steps = o.trajectory_steps,
                                    .seed = o.seed},
                                   o.out);
   std::ofstream(fs::path(o.out) / "real_device.json") << sim::device_to_json(d);
@@ -443,6 +447,8 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_option("--mount-stiffness-n-per-cm2", s->mount_stiffness, "K1,K2: the mounts stretch (self-consistent)");
   synth->add_option("--dead-time-s", s->dead_time_s, "Regulator dead time");
   synth->add_option("--time-constant-s", s->time_constant_s, "Regulator time constant");
+  synth->add_option("--second-order-time-s", s->second_order_time_s,
+                    "Regulator's second time tau2: tau2^2 p'' + tau p' + p = u (default 0, first order)");
   synth->add_option("--imu-offset-deg", s->imu_offset_deg, "fe,ur offset of the IMU pair");
   synth->add_option("--imu-latency-s", s->imu_latency_s, "IMU latency");
   synth->add_option("--hysteresis", s->hysteresis,
@@ -454,6 +460,8 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   synth->add_option("--r0-scale", s->r0_scale, "The fPAM's r0 times this");
   synth->add_option("--eps-max-shift", s->eps_max_shift, "Added to the fPAM's eps_max");
   synth->add_option("--trajectory-s", s->trajectory_s, "Length of the trajectory trial (default 24 s)");
+  synth->add_flag("--trajectory-steps", s->trajectory_steps,
+                  "The trajectory's commands in steps every 1.5 s instead of sinusoids");
   synth->add_option("--repetitions", s->repetitions,
                     "Repetitions of sweeps, range of motion, tensile cycles (default 3)");
   synth->add_option("--seed", s->seed, "Noise seed (default 1)");

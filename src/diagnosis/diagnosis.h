@@ -114,6 +114,7 @@ struct EffectFit {
   bool within_one_se_of_best = false;
   UnitSums heldout_after_sums;  // its held-out residuals per unit, for the paired comparison; not reported
   int evaluations = 0;
+  bool extended = false;  // its extensions (ParameterSpec::extension) fitted and kept; otherwise held at the start
 };
 
 // One trial's gap with the nominal model and, after the diagnosis, with the corrected one.

@@ -93,7 +93,8 @@ nlohmann::json to_json(const Diagnosis& d) {
                           {"within_one_se_of_best", f.within_one_se_of_best},
                           {"train_error_before", f.train_error_before},
                           {"train_error_after", f.train_error_after},
-                          {"evaluations", f.evaluations}};
+                          {"evaluations", f.evaluations},
+                          {"extended", f.extended}};
   };
   nlohmann::json j;
   j["verdict"] = d.verdict;

@@ -37,6 +37,10 @@ std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
                             std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});
 
+// Effect `id` fitted on `base`'s training part and scored on its held-out part: the base form's parameters searched
+// (the start, a coarse grid, BOBYQA), then, where the base form closes min_gain of the held-out gap, its extensions
+// (ParameterSpec::extension) with everything else from there, kept when they lower the held-out error by more than one
+// paired bootstrap standard error.
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);
 

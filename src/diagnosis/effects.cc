@@ -36,11 +36,13 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
       {EffectId::kRegulatorLag,
        "regulator_lag",
-       "the regulators follow the command with another first-order time constant, venting that many times slower "
-       "or faster than they fill (sim::Regulator), and a dead time",
+       "the regulators follow the command with another time constant, venting that many times slower or faster "
+       "than they fill (sim::Regulator), after a dead time, and with a second-order response, tau2^2 p'' + tau p' + p "
+       "= u (physics/pressure_regulator.h: an S-shaped rise, an overshoot where tau2 > tau/2)",
        {{"time_constant_s", 0.01, 1.0, true, NAN},
         {"dead_time_s", 0.0, 0.3, false, 0.0},
-        {"vent_ratio", 0.25, 8.0, true, 1.0}},
+        {"vent_ratio", 0.25, 8.0, true, 1.0},
+        {"second_order_time_s", 0.0, 0.25, false, 0.0, /*extension=*/true}},
        {K::kTrajectory}},
       {EffectId::kHysteresis,
        "hysteresis",
@@ -56,13 +58,15 @@ std::vector<EffectSpec> make_catalogue() {
        {K::kTensile, K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kWrapGeometry,
        "wrap_geometry",
-       "the wrist the muscles wrap around has another radius, and its centre lies off the joint's (Eqns. parameters2, "
+       "the wrist the muscles wrap around has another radius, its centre lies off the joint's (Eqns. parameters2, "
        "length, tau2 about the wrist circle's centre, physics/torque_geometry.h: towards the hand, the palm and the "
-       "ulna, each pair's circle moved alike)",
+       "ulna, each pair's circle moved alike), and it is an ellipse, longer or shorter along the forearm than across "
+       "it (aspect_scale times its aspect; in MuJoCo its equivalent circle, moved as the wrist turns)",
        {{"wrist_radius_scale", 0.5, 1.5, false, 1.0},
         {"centre_distal_mm", -10.0, 10.0, false, 0.0},
         {"centre_palmar_mm", -10.0, 10.0, false, 0.0},
-        {"centre_ulnar_mm", -10.0, 10.0, false, 0.0}},
+        {"centre_ulnar_mm", -10.0, 10.0, false, 0.0},
+        {"aspect_scale", 0.5, 2.0, true, 1.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kPassiveWrist,
        "passive_wrist",
@@ -165,6 +169,7 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
     case EffectId::kRegulatorLag:
       device.regulator.time_constant = values[0];
       device.regulator.vent_time_constant = values[2] == 1.0 ? 0.0 : values[0] * values[2];
+      device.regulator.second_order_time = values[3];
       break;
     case EffectId::kWrapGeometry:
       for (std::size_t i = 0; i < device.muscles.size(); ++i) {
@@ -176,9 +181,10 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
                                        : i == sim::kExtensor ? -values[2]
                                        : i == sim::kUlnar    ? values[3]
                                                              : -values[3];
-        m.wrap_centre.x += units::mm_to_m(values[1]);
-        m.wrap_centre.y += units::mm_to_m(towards_side_mm);
-        physics::validate(m.placement, m.wrist_radius, m.wrap_centre);
+        m.wrap_surface.x += units::mm_to_m(values[1]);
+        m.wrap_surface.y += units::mm_to_m(towards_side_mm);
+        m.wrap_surface.aspect *= values[4];
+        physics::validate(m.placement, m.wrist_radius, m.wrap_surface);
       }
       break;
     case EffectId::kPassiveWrist:
@@ -226,6 +232,7 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
     start[0] = nominal.regulator.time_constant;
     if (nominal.regulator.vent_time_constant > 0.0)
       start[2] = nominal.regulator.vent_time_constant / nominal.regulator.time_constant;
+    start[3] = nominal.regulator.second_order_time;
   }
   if (id == EffectId::kHysteresis && nominal.hysteresis.active()) {
     const physics::FpamHysteresis& h = nominal.hysteresis;

@@ -26,6 +26,9 @@ struct ParameterSpec {
   double lower = 0.0, upper = 0.0;
   bool log_scale = false;  // searched in log space (stiffnesses spanning decades)
   double neutral = 0.0;    // the value that leaves the nominal model unchanged, where one exists
+  // Beyond the effect's base form (a regulator's second order): fitted only after the base form, and kept only where
+  // it lowers the held-out error by more than one standard error (effect_fit.h).
+  bool extension = false;
 
   // The value <-> the unit interval the fits search in (log space where log_scale); from_unit clamps into [0, 1].
   double to_unit(double value) const;

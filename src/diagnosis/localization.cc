@@ -138,7 +138,7 @@ bool nominal_path_wraps(const sim::DeviceDescription& nominal, int muscle, doubl
   return physics::muscle_path(
              mount.placement, mount.wrist_radius,
              physics::direction_of(static_cast<sim::MuscleIndex>(muscle)) * units::deg_to_rad(angle_deg),
-             mount.wrap_centre)
+             mount.wrap_surface)
              .regime == physics::Regime::kWrapping;
 }
 

@@ -133,8 +133,8 @@ void write_tensile(const SyntheticDevice& real, const SyntheticPlan& plan, std::
   }
 }
 
-// Antagonistic pressure sinusoids on both axes (90 degrees apart, period 12 s), rows every 14 ms as the control loop
-// logs them, the IMUs sampled every 10 ms.
+// Antagonistic pressure sinusoids on both axes (90 degrees apart, period 12 s), or steps (plan.trajectory_steps), rows
+// every 14 ms as the control loop logs them, the IMUs sampled every 10 ms.
 void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, const sim::PluginSet& plugins,
                       std::mt19937_64& rng, const fs::path& out) {
   std::normal_distribution<double> normal;
@@ -153,7 +153,13 @@ void write_trajectory(const SyntheticDevice& real, const SyntheticPlan& plan, co
   const double dt = model->opt.timestep, period = 12.0, loop = 0.014, imu_period = 0.01;
   const auto command_at = [&](double t) -> std::array<double, 4> {
     if (t < 0.0) return {};
-    const double a = std::sin(2.0 * std::numbers::pi * t / period), b = std::cos(2.0 * std::numbers::pi * t / period);
+    // Steps: each axis's level from a fixed sequence that fills and vents by large and small amounts.
+    static constexpr std::array<double, 7> kLevels = {1.0, -0.5, 0.8, -1.0, 0.3, -0.8, 0.0};
+    const auto step = static_cast<std::size_t>(t / 1.5);
+    const double a =
+        plan.trajectory_steps ? kLevels[step % kLevels.size()] : std::sin(2.0 * std::numbers::pi * t / period);
+    const double b =
+        plan.trajectory_steps ? kLevels[(step + 3) % kLevels.size()] : std::cos(2.0 * std::numbers::pi * t / period);
     return {45.0 + 40.0 * a, 45.0 - 40.0 * a, 45.0 + 40.0 * b, 45.0 - 40.0 * b};
   };
   // The true angles every step, kept for the IMU's late samples.

@@ -50,7 +50,10 @@ struct SyntheticPlan {
   bool torque_sweep = true, range_of_motion = true, tensile = true, trajectory = true;
   bool measured_pressures = true;  // the trajectory logs p_<muscle>_kpa as the bridge does
   int repetitions = 3;             // sweeps, range of motion; tensile cycles
-  double trajectory_s = 24.0;      // one 24 s period of antagonistic pressure sinusoids on both axes
+  double trajectory_s = 24.0;      // two 12 s periods of antagonistic pressure sinusoids on both axes
+  // Or antagonistic pressure steps on both axes, a new level every 1.5 s: the rise after a step shows a regulator's
+  // response, which a slow sinusoid only shows as a lag.
+  bool trajectory_steps = false;
   SyntheticNoise noise;
   std::uint64_t seed = 1;
 };

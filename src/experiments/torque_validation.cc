@@ -254,7 +254,7 @@ std::vector<Row> TorqueValidation::run_case(int index) const {
   const auto points = device_->description.stretch_mode == physics::StretchMode::kNone
                           ? physics::mount_points(mount.placement, own_angle)
                           : physics::stretched_mount_points(mount.placement, mount.wrist_radius, own_angle, force,
-                                                            device_->description.mount_stiffness, mount.wrap_centre);
+                                                            device_->description.mount_stiffness, mount.wrap_surface);
   const auto marker = [&](double coordinate) {
     return format_number(units::m_to_cm(coordinate + noise_.marker_std * normal(rng)));
   };

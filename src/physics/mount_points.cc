@@ -20,16 +20,15 @@ MountPoints mount_points(const Placement& placement, double joint_angle) {
 }
 
 MountPoints stretched_mount_points(const Placement& placement, double wrist_radius, double joint_angle, double force,
-                                   const MountStiffness& stiffness, WrapCentre centre) {
+                                   const MountStiffness& stiffness, WrapSurface surface) {
   const MountPoints mounts = mount_points(placement, joint_angle);
   if (!(force > 0.0)) return mounts;
-  const MusclePath path = muscle_path(placement, wrist_radius, joint_angle, centre);
+  const MusclePath path = muscle_path(placement, wrist_radius, joint_angle, surface);
   Point2 forearm_target = mounts.hand, hand_target = mounts.forearm;
-  if (path.regime == Regime::kWrapping) {
-    // Q1 and Q2 of Eqn. parameters2 (with psi + phi, torque_geometry.h), about the circle's centre C.
-    const double psi = path.tangent_angle, phi = path.wrap_angle;
-    forearm_target = {centre.x + wrist_radius * std::sin(psi), centre.y + wrist_radius * std::cos(psi)};
-    hand_target = {centre.x + wrist_radius * std::sin(psi + phi), centre.y + wrist_radius * std::cos(psi + phi)};
+  if (path.regime == Regime::kWrapping) {  // towards the tangent points Q1 and Q2
+    const TangentPoints q = tangent_points(placement, wrist_radius, surface, joint_angle, path);
+    forearm_target = {q.q1x, q.q1y};
+    hand_target = {q.q2x, q.q2y};
   }
   return {.forearm = towards(mounts.forearm, forearm_target, mount_stretch(force, stiffness.forearm)),
           .hand = towards(mounts.hand, hand_target, mount_stretch(force, stiffness.hand))};

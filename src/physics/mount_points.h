@@ -27,7 +27,7 @@ MountPoints mount_points(const Placement& placement, double joint_angle);
 // line of action towards the other end (towards the other mount when straight, towards its tangent point on the
 // wrist when wrapped), as mount_stretch.h models it.
 MountPoints stretched_mount_points(const Placement& placement, double wrist_radius, double joint_angle, double force,
-                                   const MountStiffness& stiffness, WrapCentre centre = {});
+                                   const MountStiffness& stiffness, WrapSurface surface = {});
 
 // The placement whose mounts lie at `points` with the hand at `joint_angle` (the inverse of mount_points).
 Placement placement_from_mount_points(const MountPoints& points, double joint_angle);

@@ -6,7 +6,7 @@
 namespace softwrist::physics {
 
 void validate(const Muscle& muscle) {
-  validate(muscle.placement, muscle.wrist_radius, muscle.wrap_centre);
+  validate(muscle.placement, muscle.wrist_radius, muscle.wrap_surface);
   validate(static_cast<const MuscleLaw&>(muscle));
 }
 
@@ -17,7 +17,7 @@ MuscleState muscle_state(const Muscle& muscle, double joint_angle, double pressu
 }
 
 MuscleState muscle_state(const Muscle& muscle, const FpamForceLaw& force_law, double joint_angle) {
-  return muscle_state(muscle, PlacementGeometry(muscle.placement, muscle.wrist_radius, muscle.wrap_centre), force_law,
+  return muscle_state(muscle, PlacementGeometry(muscle.placement, muscle.wrist_radius, muscle.wrap_surface), force_law,
                       JointAngle(joint_angle));
 }
 

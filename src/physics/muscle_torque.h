@@ -14,7 +14,7 @@ namespace softwrist::physics {
 struct Muscle : MuscleLaw {
   Placement placement;
   double wrist_radius = 0.0;  // r_w [m]
-  WrapCentre wrap_centre;     // the wrist circle's centre relative to O (torque_geometry.h); the paper's: at O
+  WrapSurface wrap_surface;   // the wrist surface's centre and shape (torque_geometry.h); the paper's: a circle at O
 };
 void validate(const Muscle& muscle);
 

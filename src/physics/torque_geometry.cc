@@ -1,5 +1,7 @@
 #include "physics/torque_geometry.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -10,30 +12,43 @@ namespace softwrist::physics {
 
 const char* to_string(Regime regime) { return regime == Regime::kWrapping ? "wrapping" : "straight"; }
 
-void validate(const Placement& placement, double wrist_radius, WrapCentre centre) {
+void validate(const Placement& placement, double wrist_radius, WrapSurface surface) {
   require_positive("placement d1 [m]", placement.d1);
   require_non_negative("placement w1 [m]", placement.w1);
   require_positive("placement d2 [m]", placement.d2);
   require_non_negative("placement w2 [m]", placement.w2);
   require_positive("wrist_radius r_w [m]", wrist_radius);
-  require_finite("wrap centre x [m]", centre.x);
-  require_finite("wrap centre y [m]", centre.y);
+  require_finite("wrap centre x [m]", surface.x);
+  require_finite("wrap centre y [m]", surface.y);
+  require(surface.aspect >= 0.25 && surface.aspect <= 4.0, "wrap surface aspect", surface.aspect,
+          "must lie within [0.25, 4] (its semi-axis along the forearm over r_w)");
   for (const auto& [name, value] : {std::pair{"placement d1 [m]", placement.d1},
                                     {"placement w1 [m]", placement.w1},
                                     {"placement d2 [m]", placement.d2},
                                     {"placement w2 [m]", placement.w2},
                                     {"wrist_radius r_w [m]", wrist_radius},
-                                    {"wrap centre x [m]", std::abs(centre.x)},
-                                    {"wrap centre y [m]", std::abs(centre.y)}}) {
+                                    {"wrap centre x [m]", std::abs(surface.x)},
+                                    {"wrap centre y [m]", std::abs(surface.y)}}) {
     require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
   }
-  const double r1 = std::hypot(placement.d1 + centre.x, placement.w1 - centre.y);  // |P1 - C|
+  if (!surface.circular()) {
+    // Scaled so that the ellipse is the unit circle, the forearm mount lies outside it; the hand mount, turning about
+    // O, stays beyond the larger semi-axis.
+    const double a = surface.aspect * wrist_radius;
+    const double u = std::hypot((placement.d1 + surface.x) / a, (placement.w1 - surface.y) / wrist_radius);
+    require(u > 1.0, "forearm mount P1", u, "must lie outside the wrist's ellipse (its scaled distance above 1)");
+    const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(surface.x, surface.y);
+    require(closest > std::max(a, wrist_radius), "hand mount distance R2 - |OC| [m]", closest,
+            "must exceed the ellipse's larger semi-axis (mount outside the wrist at every angle)");
+    return;
+  }
+  const double r1 = std::hypot(placement.d1 + surface.x, placement.w1 - surface.y);  // |P1 - C|
   require(r1 > wrist_radius, "forearm mount distance R1 [m]", r1,
           "must exceed the wrist radius r_w (mount outside the wrist)");
   // The hand mount turns about O: its closest approach to C is R2 - |OC|.
-  const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(centre.x, centre.y);
+  const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(surface.x, surface.y);
   require(closest > wrist_radius,
-          centre.at_joint() ? "hand mount distance R2 [m]" : "hand mount distance R2 - |OC| [m]", closest,
+          surface.at_joint() ? "hand mount distance R2 [m]" : "hand mount distance R2 - |OC| [m]", closest,
           "must exceed the wrist radius r_w (mount outside the wrist at every angle)");
 }
 
@@ -41,8 +56,8 @@ namespace {
 
 // psi of Eqn. parameters2. Q1 is the tangent point from P1 on the muscle's side: P1 lies at polar angle
 // atan2(w1, -d1) about C, and the tangent from it touches the circle acos(r_w/R1) closer to +y; psi is measured from y.
-double tangent_angle(const Placement& placement, double r_w, WrapCentre centre = {}) {
-  const double x = -placement.d1 - centre.x, y = placement.w1 - centre.y;
+double tangent_angle(const Placement& placement, double r_w, WrapSurface surface = {}) {
+  const double x = -placement.d1 - surface.x, y = placement.w1 - surface.y;
   const double q1_polar = std::atan2(y, x) - std::acos(r_w / std::hypot(x, y));
   return std::numbers::pi / 2.0 - q1_polar;
 }
@@ -62,6 +77,53 @@ double wrap_angle_at_zero(const Placement& placement, double r_w, double psi) {
   return std::numbers::pi / 2.0 - (psi + std::acos(r_w / r2) + std::asin(placement.w2 / r2));
 }
 
+// The wrapped path over an ellipse (C, semi-axes a along x and b along y), built where it is the unit circle: the
+// tangent points Q1 from P1 and Q2 from P2 on the muscle's side, at parametric angles t1 and t2 (the point
+// C + (a cos t, b sin t)); the muscle wraps when t1 > t2.
+struct EllipticWrap {
+  double t1 = 0.0, t2 = 0.0;
+  double q1x = 0.0, q1y = 0.0, q2x = 0.0, q2y = 0.0;
+};
+
+EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, double p2x, double p2y) {
+  const double u1x = (-p.d1 - c.x) / a, u1y = (p.w1 - c.y) / b;
+  const double u2x = (p2x - c.x) / a, u2y = (p2y - c.y) / b;
+  // P1 lies behind the centre (x < 0): its polar angle taken in (0, 2 pi), continuous across the forearm's axis.
+  double polar1 = std::atan2(u1y, u1x);
+  if (polar1 < 0.0) polar1 += 2.0 * std::numbers::pi;
+  EllipticWrap w;
+  w.t1 = polar1 - std::acos(1.0 / std::sqrt(u1x * u1x + u1y * u1y));
+  w.t2 = std::atan2(u2y, u2x) + std::acos(1.0 / std::sqrt(u2x * u2x + u2y * u2y));
+  w.q1x = c.x + a * std::cos(w.t1);
+  w.q1y = c.y + b * std::sin(w.t1);
+  w.q2x = c.x + a * std::cos(w.t2);
+  w.q2y = c.y + b * std::sin(w.t2);
+  return w;
+}
+
+// The ellipse's arc length from parametric angle t0 to t1 > t0, integral of sqrt(a^2 sin^2 t + b^2 cos^2 t): 8-point
+// Gauss-Legendre on panels of at most 0.5 rad (a smooth integrand: 1e-12 relative at aspects up to 4).
+double ellipse_arc(double a, double b, double t0, double t1) {
+  static constexpr std::array<double, 4> kNodes = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                                   0.9602898564975363};
+  static constexpr std::array<double, 4> kWeights = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                                     0.1012285362903763};
+  const int panels = std::max(1, static_cast<int>(std::ceil((t1 - t0) / 0.5)));
+  const double h = (t1 - t0) / panels;
+  double sum = 0.0;
+  for (int k = 0; k < panels; ++k) {
+    const double mid = t0 + (k + 0.5) * h;
+    for (std::size_t i = 0; i < kNodes.size(); ++i) {
+      for (const double side : {-1.0, 1.0}) {
+        const double t = mid + side * 0.5 * h * kNodes[i];
+        const double sx = a * std::sin(t), cy = b * std::cos(t);
+        sum += kWeights[i] * 0.5 * h * std::sqrt(sx * sx + cy * cy);
+      }
+    }
+  }
+  return sum;
+}
+
 }  // namespace
 
 double wrap_transition_angle(const Placement& placement, double wrist_radius) {
@@ -69,13 +131,14 @@ double wrap_transition_angle(const Placement& placement, double wrist_radius) {
   return wrap_angle_at_zero(placement, wrist_radius, tangent_angle(placement, wrist_radius));
 }
 
-PlacementGeometry::PlacementGeometry(const Placement& placement, double wrist_radius, WrapCentre centre)
-    : placement_(placement), centre_(centre), wrist_radius_(wrist_radius) {
-  validate(placement, wrist_radius, centre);
-  const double x1 = placement.d1 + centre.x, y1 = placement.w1 - centre.y;  // |P1 - C| = |(x1, y1)|
+PlacementGeometry::PlacementGeometry(const Placement& placement, double wrist_radius, WrapSurface surface)
+    : placement_(placement), surface_(surface), wrist_radius_(wrist_radius) {
+  validate(placement, wrist_radius, surface);
+  if (!surface.circular()) return;                                            // elliptic_at builds the path per angle
+  const double x1 = placement.d1 + surface.x, y1 = placement.w1 - surface.y;  // |P1 - C| = |(x1, y1)|
   tangent_length1_ = std::sqrt(x1 * x1 + y1 * y1 - wrist_radius * wrist_radius);
   tangent_length2_ = std::sqrt(placement.d2 * placement.d2 + placement.w2 * placement.w2 - wrist_radius * wrist_radius);
-  tangent_angle_ = tangent_angle(placement, wrist_radius, centre);
+  tangent_angle_ = tangent_angle(placement, wrist_radius, surface);
   wrap_angle_at_zero_ = wrap_angle_at_zero(placement, wrist_radius, tangent_angle_);
   cos_q2_at_zero_ = std::cos(tangent_angle_ + wrap_angle_at_zero_);
   sin_q2_at_zero_ = std::sin(tangent_angle_ + wrap_angle_at_zero_);
@@ -85,7 +148,8 @@ MusclePath PlacementGeometry::at(const JointAngle& angle) const {
   const double joint_angle = angle.radians;
   require(std::isfinite(joint_angle) && std::abs(joint_angle) <= std::numbers::pi, "joint_angle [rad]", joint_angle,
           "must be finite and within [-pi, pi]");
-  if (!centre_.at_joint()) return off_centre_at(angle);
+  if (!surface_.circular()) return elliptic_at(angle);
+  if (!surface_.at_joint()) return off_centre_at(angle);
   const double d2 = placement_.d2, w2 = placement_.w2;
   const double r_w = wrist_radius_;
   const double c = angle.cos;
@@ -125,7 +189,7 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
   const double d2 = placement_.d2, w2 = placement_.w2;
   const double r_w = wrist_radius_;
   const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
-  const double bx = p2x - centre_.x, by = p2y - centre_.y;                                    // C->P2
+  const double bx = p2x - surface_.x, by = p2y - surface_.y;                                  // C->P2
   const double r2 = std::sqrt(bx * bx + by * by);
   // C->P2's polar angle, continuous in theta: O->P2's, theta + atan2(w2, d2), turned by the angle from O->P2 to C->P2
   // (under pi/2: validate keeps |OC| below R2).
@@ -139,7 +203,7 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
   if (path.wrap_angle > 0.0) {
     path.regime = Regime::kWrapping;
     path.length = tangent_length1_ + r_w * path.wrap_angle + std::sqrt(r2 * r2 - r_w * r_w);
-    const double ux = centre_.x + r_w * std::cos(q2_polar) - p2x, uy = centre_.y + r_w * std::sin(q2_polar) - p2y;
+    const double ux = surface_.x + r_w * std::cos(q2_polar) - p2x, uy = surface_.y + r_w * std::sin(q2_polar) - p2y;
     path.moment_arm = (p2x * uy - p2y * ux) / std::sqrt(ux * ux + uy * uy);
   } else {
     set_straight(path, placement_, angle.cos, angle.sin, p2x, p2y);
@@ -147,8 +211,76 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
   return path;
 }
 
-MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapCentre centre) {
-  return PlacementGeometry(placement, wrist_radius, centre).at(joint_angle);
+// The off-centre construction on an ellipse (elliptic_wrap): the arc by quadrature, the moment arm about O from the
+// force direction at P2, towards Q2.
+MusclePath PlacementGeometry::elliptic_at(const JointAngle& angle) const {
+  const double a = surface_.aspect * wrist_radius_, b = wrist_radius_;
+  const double d2 = placement_.d2, w2 = placement_.w2;
+  const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
+  const EllipticWrap w = elliptic_wrap(placement_, a, b, surface_, p2x, p2y);
+  MusclePath path;
+  path.tangent_angle = std::atan2(w.q1x - surface_.x, w.q1y - surface_.y);  // from y to C->Q1, towards x
+  path.wrap_angle = w.t1 - w.t2;
+  if (path.wrap_angle <= 0.0) {
+    set_straight(path, placement_, angle.cos, angle.sin, p2x, p2y);
+    return path;
+  }
+  path.regime = Regime::kWrapping;
+  const double ux = w.q2x - p2x, uy = w.q2y - p2y;  // P2 -> Q2
+  const double tail = std::sqrt(ux * ux + uy * uy);
+  path.length = std::hypot(w.q1x + placement_.d1, w.q1y - placement_.w1) + ellipse_arc(a, b, w.t2, w.t1) + tail;
+  path.moment_arm = (p2x * uy - p2y * ux) / tail;
+  return path;
+}
+
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapSurface surface) {
+  return PlacementGeometry(placement, wrist_radius, surface).at(joint_angle);
+}
+
+TangentPoints tangent_points(const Placement& placement, double wrist_radius, WrapSurface surface, double joint_angle,
+                             const MusclePath& path) {
+  if (!surface.circular()) {
+    const double c = std::cos(joint_angle), s = std::sin(joint_angle);
+    const double p2x = placement.d2 * c - placement.w2 * s, p2y = placement.d2 * s + placement.w2 * c;
+    const EllipticWrap w = elliptic_wrap(placement, surface.aspect * wrist_radius, wrist_radius, surface, p2x, p2y);
+    return {w.q1x, w.q1y, w.q2x, w.q2y};
+  }
+  const double psi = path.tangent_angle, phi = path.wrap_angle;
+  return {surface.x + wrist_radius * std::sin(psi), surface.y + wrist_radius * std::cos(psi),
+          surface.x + wrist_radius * std::sin(psi + phi), surface.y + wrist_radius * std::cos(psi + phi)};
+}
+
+EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radius, WrapSurface surface,
+                                   double joint_angle, const MusclePath& path) {
+  const double a = surface.aspect * wrist_radius, b = wrist_radius;
+  if (path.regime != Regime::kWrapping) return {surface.x, surface.y, std::min(a, b)};
+  if (surface.circular()) return {surface.x, surface.y, wrist_radius};
+  const double c = std::cos(joint_angle), s = std::sin(joint_angle);
+  const double p1x = -placement.d1, p1y = placement.w1;
+  const double p2x = placement.d2 * c - placement.w2 * s, p2y = placement.d2 * s + placement.w2 * c;
+  const EllipticWrap w = elliptic_wrap(placement, a, b, surface, p2x, p2y);
+  // Unit directions of the two segments, P1 -> Q1 and Q2 -> P2, and the turn between them (the path bends clockwise
+  // over the muscle's side: the cross product is negative).
+  double e1x = w.q1x - p1x, e1y = w.q1y - p1y, e2x = p2x - w.q2x, e2y = p2y - w.q2y;
+  const double n1 = std::hypot(e1x, e1y), n2 = std::hypot(e2x, e2y);
+  e1x /= n1, e1y /= n1, e2x /= n2, e2y /= n2;
+  const double turn = std::abs(std::atan2(e1x * e2y - e1y * e2x, e1x * e2x + e1y * e2y));
+  // The inside of the bend, where the centre lies: along e2 - e1.
+  const double bx = e2x - e1x, by = e2y - e1y, nb = std::hypot(bx, by);
+  if (turn < 0.02) {
+    const double mid = 0.5 * (w.t1 + w.t2), sx = a * std::sin(mid), cy = b * std::cos(mid);
+    const double curvature_radius = std::pow(sx * sx + cy * cy, 1.5) / (a * b);
+    const double mx = surface.x + a * std::cos(mid), my = surface.y + b * std::sin(mid);  // the arc's middle
+    return {mx + bx / nb * curvature_radius, my + by / nb * curvature_radius, curvature_radius};
+  }
+  // X: where the lines P1 + u e1 and P2 - v e2 meet.
+  const double cross = e1x * e2y - e1y * e2x;
+  const double u = ((p2x - p1x) * e2y - (p2y - p1y) * e2x) / cross;
+  const double xx = p1x + u * e1x, xy = p1y + u * e1y;
+  const double through_x = std::hypot(xx - p1x, xy - p1y) + std::hypot(p2x - xx, p2y - xy);
+  const double radius = (through_x - path.length) / (2.0 * std::tan(0.5 * turn) - turn);
+  const double to_centre = radius / std::cos(0.5 * turn);
+  return {xx + bx / nb * to_centre, xy + by / nb * to_centre, radius};
 }
 
 }  // namespace softwrist::physics

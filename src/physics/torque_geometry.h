@@ -23,11 +23,14 @@
 //    phi - psi turns Q2 by -2 psi off the tangent point: its moment arm is still constant but a little below r_w
 //    (0.44 % on the torque rig, where psi = 2.75 deg), so the torque would step by that much at the transition.
 //
-// Beyond the paper: the wrist surface's centre C need not be the joint centre O (WrapCentre). The carpal bones the
+// Beyond the paper: the wrist surface's centre C need not be the joint centre O, nor the surface a circle
+// (WrapSurface). The carpal bones the
 // muscles wrap over are fixed to the hand's proximal row and the forearm's distal end, while the instantaneous centre
 // of rotation of flexion/extension lies in the capitate's head and moves a few millimetres over the range (Neu, Crisco
 // & Wolfe, J Biomech 34:1429, 2001; Kaufmann et al., J Hand Surg 30A:937, 2005): C is fixed in the forearm's frame, the
-// hand turns about O. With C = O the path is the paper's exactly (tested).
+// hand turns about O. An elliptical surface is wrapped by the same construction in coordinates scaled to make it the
+// unit circle (tangency is affine-invariant); its arc length by Gauss-Legendre quadrature. With C = O and aspect 1
+// the path is the paper's exactly (tested).
 
 #include <cmath>
 
@@ -41,12 +44,19 @@ struct Placement {
   double w2 = 0.0;  // hand mount P2: distance from the hand's centre line, on the muscle's side
 };
 
-// The wrist surface's centre C relative to the joint centre O, in the forearm's frame of the muscle's plane (x along
-// the forearm towards the hand, y towards the muscle's side) [m]. (0, 0): the paper's circle about O.
-struct WrapCentre {
+// The wrist surface the muscle wraps over, in the forearm's frame of the muscle's plane (x along the forearm towards
+// the hand, y towards the muscle's side): its centre C relative to the joint centre O [m], and its shape, an ellipse
+// whose semi-axis across the forearm is the wrist radius r_w and whose semi-axis along it is aspect * r_w. Centre
+// (0, 0) and aspect 1: the paper's circle about O. Musculoskeletal models wrap muscles over ellipsoids where a circle
+// does not fit the bone's profile (Garner & Pandy, Comput Methods Biomech Biomed Engin 3:1, 2000; OpenSim's
+// WrapEllipsoid): a wrist flatter along the forearm than across it has aspect > 1.
+struct WrapSurface {
   double x = 0.0;
   double y = 0.0;
+  double aspect = 1.0;
   bool at_joint() const { return x == 0.0 && y == 0.0; }
+  bool circular() const { return aspect == 1.0; }
+  bool is_papers() const { return at_joint() && circular(); }
 };
 
 enum class Regime { kStraight, kWrapping };
@@ -56,17 +66,19 @@ struct MusclePath {
   Regime regime = Regime::kStraight;
   double length = 0.0;         // L (Eqn. tau1) or L_w (Eqn. length) [m]
   double moment_arm = 0.0;     // torque per newton of muscle force about O [m]
-  double wrap_angle = 0.0;     // phi of Eqn. parameters2 [rad]; > 0 exactly when the muscle wraps
+  double wrap_angle = 0.0;     // phi of Eqn. parameters2 [rad]; > 0 exactly when the muscle wraps (on an ellipse:
+                               // the wrapped arc's span in the ellipse's parametric angle)
   double tangent_angle = 0.0;  // psi of Eqn. parameters2 [rad]: angle from y to C->Q1, towards x
 };
 
-// Throws InvalidParameter unless the placement is finite, d1, d2 > 0, w1, w2 >= 0, r_w > 0 and both mounts lie
-// outside the wrist circle at every joint angle (R1, R2 > r_w about C: the tangents of Eqn. parameters2 exist; the
-// hand mount turns about O, so with C off O it comes within R2 - |OC| of C).
-void validate(const Placement& placement, double wrist_radius, WrapCentre centre = {});
+// Throws InvalidParameter unless the placement is finite, d1, d2 > 0, w1, w2 >= 0, r_w > 0, the aspect within
+// [0.25, 4], and both mounts lie outside the wrist surface at every joint angle (R1, R2 > r_w about C for the circle:
+// the tangents of Eqn. parameters2 exist; the hand mount turns about O, so with C off O it comes within R2 - |OC| of
+// C; for an ellipse, outside it and beyond its larger semi-axis respectively).
+void validate(const Placement& placement, double wrist_radius, WrapSurface surface = {});
 
 // The muscle's path at a joint angle [rad], |joint_angle| <= pi.
-MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapCentre centre = {});
+MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapSurface surface = {});
 
 // A joint angle with its cosine and sine, for loops that visit the same angles at many placements.
 struct JointAngle {
@@ -78,23 +90,48 @@ struct JointAngle {
 // many angles at one placement (the design objective's reference angles). at(theta) == muscle_path(..., theta).
 class PlacementGeometry {
  public:
-  // validate(placement, wrist_radius, centre)
-  PlacementGeometry(const Placement& placement, double wrist_radius, WrapCentre centre = {});
+  // validate(placement, wrist_radius, surface)
+  PlacementGeometry(const Placement& placement, double wrist_radius, WrapSurface surface = {});
   MusclePath at(double joint_angle) const { return at(JointAngle(joint_angle)); }
   MusclePath at(const JointAngle& joint_angle) const;
 
  private:
-  MusclePath off_centre_at(const JointAngle& joint_angle) const;  // C != O: the general construction
+  MusclePath off_centre_at(const JointAngle& joint_angle) const;  // a circle about C != O: the general construction
+  MusclePath elliptic_at(const JointAngle& joint_angle) const;    // an ellipse
 
   Placement placement_;
-  WrapCentre centre_;
+  WrapSurface surface_;
   double wrist_radius_, tangent_length1_, tangent_length2_, tangent_angle_, wrap_angle_at_zero_;
   double cos_q2_at_zero_, sin_q2_at_zero_;  // of psi + phi0: Q2's polar angle is psi + phi0 - theta
 };
 
 // The joint angle [rad] at which the muscle stops wrapping: Eqn. parameters2 solved for phi = 0,
 // theta* = pi/2 - (psi + acos(r_w/R2) + asin(w2/R2)). Below it the muscle wraps, above it it runs straight. For the
-// paper's circle about O (WrapCentre at the joint).
+// paper's circle about O (WrapSurface at the joint).
 double wrap_transition_angle(const Placement& placement, double wrist_radius);
+
+// A wrapped path's tangent points, Q1 (from the forearm mount) and Q2 (from the hand mount), where its straight
+// segments touch the surface, in the forearm's frame [m]: for the circle Q1 = C + r_w (sin psi, cos psi) and Q2 = C +
+// r_w (sin(psi + phi), cos(psi + phi)) (Eqn. parameters2 with psi + phi, above). `path` is muscle_path's at
+// `joint_angle`, wrapping.
+struct TangentPoints {
+  double q1x = 0.0, q1y = 0.0, q2x = 0.0, q2y = 0.0;
+};
+TangentPoints tangent_points(const Placement& placement, double wrist_radius, WrapSurface surface, double joint_angle,
+                             const MusclePath& path);
+
+// The circle that stands in for a non-circular surface where only circles can be wrapped (MuJoCo's cylinders): tangent
+// to both straight segments of a wrapped path, so the same moment arm about O, and of the radius that makes the path
+// around it as long (the wrapped arc shortcut by the circle: L(r) = |P1X| + |XP2| - 2 r tan(phi/2) + r phi, X where
+// the segments' lines meet, phi the path's turn there). For a turn below 0.02 rad, the ellipse's radius of curvature
+// at the arc's middle (the length then differs by under phi^3 r / 12, 1e-7 of a centimetre-size path).
+struct EquivalentCircle {
+  double x = 0.0, y = 0.0;  // centre, forearm frame [m]
+  double radius = 0.0;      // [m]
+};
+// The equivalent circle of a wrapped `path` (muscle_path's) on `surface` with wrist radius r_w, the hand at
+// `joint_angle`; for a straight path, the circle inscribed in the surface at its centre (the segment misses it too).
+EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radius, WrapSurface surface,
+                                   double joint_angle, const MusclePath& path);
 
 }  // namespace softwrist::physics

@@ -125,7 +125,7 @@ std::optional<MuscleIndex> muscle_from_name(std::string_view name) {
 
 physics::Muscle DeviceDescription::muscle(int index) const {
   const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
-  return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius, mount.wrap_centre};
+  return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius, mount.wrap_surface};
 }
 
 physics::MuscleLaw DeviceDescription::muscle_law(const MuscleMount& mount) const {
@@ -159,13 +159,14 @@ void read_muscle_mounts(Reader muscles, DeviceDescription& device) {
                        cm_to_m(m.number("w2_cm"))};
     mount.rest_length = cm_to_m(m.number("L0_cm"));
     mount.wrist_radius = cm_to_m(m.number("rw_cm"));
-    mount.wrap_centre = {cm_to_m(m.number("wrap_centre_x_cm", 0.0)), cm_to_m(m.number("wrap_centre_y_cm", 0.0))};
+    mount.wrap_surface = {cm_to_m(m.number("wrap_centre_x_cm", 0.0)), cm_to_m(m.number("wrap_centre_y_cm", 0.0)),
+                          m.number("wrap_aspect", 1.0)};
     m.finish();
     try {
       physics::validate(physics::Muscle{{.fpam = device.fpam, .rest_length = mount.rest_length},
                                         mount.placement,
                                         mount.wrist_radius,
-                                        mount.wrap_centre});
+                                        mount.wrap_surface});
     } catch (const physics::InvalidParameter& e) {
       m.fail("", e.what());
     }
@@ -206,6 +207,10 @@ void read_regulator(Reader r, Regulator& regulator) {
     r.fail("vent_time_constant_s", "must be 0 (as time_constant_s) or lie in [0.001, 100] (1 ms integration steps)");
   }
   if (regulator.vent_time_constant == regulator.time_constant) regulator.vent_time_constant = 0.0;
+  regulator.second_order_time = r.non_negative("second_order_time_s", 0.0);  // 0: first order
+  if (regulator.second_order_time > physics::plausible::kMaxTimeConstant) {
+    r.fail("second_order_time_s", "must lie in [0, 100] (0: a first-order regulator)");
+  }
   r.finish();
 }
 
@@ -244,11 +249,13 @@ void read_hand(Reader h, Hand& hand) {
   h.finish();
 }
 
-// The regulator's entry of a placement file; the venting time constant only where it differs.
+// The regulator's entry of a placement file; the venting time constant only where it differs, the second order only
+// where there is one.
 nlohmann::json regulator_json(const Regulator& regulator) {
   nlohmann::json j = {{"max_pressure_kpa", units::pa_to_kpa(regulator.max_pressure)},
                       {"time_constant_s", regulator.time_constant}};
   if (regulator.vent_time_constant > 0.0) j["vent_time_constant_s"] = regulator.vent_time_constant;
+  if (regulator.second_order_time > 0.0) j["second_order_time_s"] = regulator.second_order_time;
   return j;
 }
 
@@ -295,10 +302,11 @@ std::string device_to_json(const DeviceDescription& device) {
     muscles[kMuscleNames[i]] = {{"d1_cm", m_to_cm(m.placement.d1)}, {"w1_cm", m_to_cm(m.placement.w1)},
                                 {"d2_cm", m_to_cm(m.placement.d2)}, {"w2_cm", m_to_cm(m.placement.w2)},
                                 {"L0_cm", m_to_cm(m.rest_length)},  {"rw_cm", m_to_cm(m.wrist_radius)}};
-    if (!m.wrap_centre.at_joint()) {  // the paper's circle about the joint unless moved
-      muscles[kMuscleNames[i]]["wrap_centre_x_cm"] = m_to_cm(m.wrap_centre.x);
-      muscles[kMuscleNames[i]]["wrap_centre_y_cm"] = m_to_cm(m.wrap_centre.y);
+    if (!m.wrap_surface.at_joint()) {  // the paper's circle about the joint unless moved
+      muscles[kMuscleNames[i]]["wrap_centre_x_cm"] = m_to_cm(m.wrap_surface.x);
+      muscles[kMuscleNames[i]]["wrap_centre_y_cm"] = m_to_cm(m.wrap_surface.y);
     }
+    if (!m.wrap_surface.circular()) muscles[kMuscleNames[i]]["wrap_aspect"] = m.wrap_surface.aspect;
   }
   const auto& w = device.wrist;
   json root = {

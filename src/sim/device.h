@@ -12,6 +12,7 @@
 #include "physics/exosuit_layout.h"
 #include "physics/fpam_hysteresis.h"
 #include "physics/muscle_torque.h"
+#include "physics/pressure_regulator.h"
 #include "physics/relaxed_wrist.h"
 #include "physics/units.h"
 
@@ -28,10 +29,11 @@ using physics::MuscleIndex;
 std::optional<MuscleIndex> muscle_from_name(std::string_view name);
 
 struct MuscleMount {
-  physics::Placement placement;     // in the muscle's own plane (torque_geometry.h)
-  double rest_length = 0.0;         // L0 [m]
-  double wrist_radius = 0.0;        // r_w [m] of the wrist surface this muscle wraps around
-  physics::WrapCentre wrap_centre;  // that surface's centre relative to the joint (torque_geometry.h); paper: at it
+  physics::Placement placement;  // in the muscle's own plane (torque_geometry.h)
+  double rest_length = 0.0;      // L0 [m]
+  double wrist_radius = 0.0;     // r_w [m] of the wrist surface this muscle wraps around
+  // That surface's centre relative to the joint and its shape (torque_geometry.h); the paper's: a circle about it.
+  physics::WrapSurface wrap_surface;
 };
 
 // The relaxed wrist and the hand (cited in docs/placement-file.md and the generated model).
@@ -68,6 +70,11 @@ struct Regulator {
   // exhaust, whose flow at low gauge pressure is subsonic and weaker (ISO 6358; Beater, Pneumatic Drives, 2007, ch. 3),
   // so real ones often empty a muscle more slowly than they fill it; the diagnosis's regulator_lag fits the ratio.
   double vent_time_constant = 0.0;  // [s]
+  // The second time tau2 of a second-order response (physics/pressure_regulator.h: tau2^2 p'' + tau p' + p = u);
+  // 0, the default, is the first-order lag. The diagnosis's regulator_lag fits it.
+  double second_order_time = 0.0;  // [s]
+
+  physics::RegulatorResponse response() const { return {time_constant, vent_time_constant, second_order_time}; }
 };
 
 struct DeviceDescription {

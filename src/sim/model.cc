@@ -63,15 +63,24 @@ Model Model::FromXml(const std::string& xml, const PluginSet& plugins, const std
   mj_deleteVFS(&vfs);
   if (raw == nullptr) throw std::runtime_error(fmt::format("{}: {}", source_name, error.data()));
 
+  try {
+    check_plugin_names(raw, plugins, source_name);
+  } catch (...) {
+    mj_deleteModel(raw);
+    throw;
+  }
+  return Adopt(raw, plugins.libraries(), source_name);
+}
+
+Model Model::Adopt(mjModel* raw, std::vector<PluginLibrary> libraries, const std::string& source_name) {
   Model model;
-  // The libraries outlive every model (never unloaded); the deleter detaches before freeing.
-  std::vector<PluginLibrary> libraries = plugins.libraries();
-  model.model_ = std::shared_ptr<mjModel>(raw, [libraries](mjModel* m) {
+  model.libraries_ = libraries;
+  // The deleter detaches before freeing.
+  model.model_ = std::shared_ptr<mjModel>(raw, [libraries = std::move(libraries)](mjModel* m) {
     for (const auto& library : libraries) library.Detach(m);
     mj_deleteModel(m);
   });
-  check_plugin_names(raw, plugins, source_name);
-  for (const auto& library : plugins.libraries()) {
+  for (const auto& library : model.libraries_) {
     try {
       library.Attach(raw);
     } catch (const std::runtime_error& e) {
@@ -79,6 +88,12 @@ Model Model::FromXml(const std::string& xml, const PluginSet& plugins, const std
     }
   }
   return model;
+}
+
+Model Model::Copy() const {
+  mjModel* raw = mj_copyModel(nullptr, model_.get());
+  if (raw == nullptr) throw std::runtime_error("cannot copy the model (out of memory)");
+  return Adopt(raw, libraries_, "a copy of the model");
 }
 
 Model Model::FromFile(const std::filesystem::path& path, const PluginSet& plugins) {

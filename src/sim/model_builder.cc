@@ -2,10 +2,12 @@
 
 #include <array>
 #include <cmath>
+#include <tuple>
 
 #include <fmt/format.h>
 
 #include "fpam_config.h"
+#include "physics/torque_geometry.h"
 #include "physics/units.h"
 #include "plugin_config.h"
 #include "sim/anatomy_visuals.h"
@@ -32,15 +34,15 @@ std::string vec(double x, const std::array<double, 3>& side, double offset) {
 std::string plugin_config(const DeviceDescription& device, const MuscleMount& mount) {
   const plugin::FpamConfig config{.law = device.muscle_law(mount),
                                   .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
-                                  .time_constant = device.regulator.time_constant,
-                                  .vent_time_constant = device.regulator.vent_time_constant,
+                                  .regulator = device.regulator.response(),
                                   .hysteresis = device.hysteresis};
   return config.ToText();
 }
 
 // The MJCF of the four muscles: their plugin configurations, mounts and wrap cylinders, tendons and actuators (the
 // four fPAMs first, so that ctrl[0..3] are the muscles' commands; then, where the fabric has hysteresis, each
-// muscle's hysteresis state, plugins/fpam/fpam_config.h).
+// muscle's hysteresis state, and where the regulator is of second order, each muscle's pressure rate,
+// plugins/fpam/fpam_config.h).
 struct MuscleItems {
   std::string custom, forearm_items, hand_items, tendons, actuators;
 };
@@ -53,11 +55,23 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
     const std::string name = kMuscleNames[i];
     const MuscleMount& m = device.muscles[i];
     const std::array<double, 3>& side = kMuscleSides[i];
-    const double r_w = m.wrist_radius;
     // The wrap cylinder about the wrist circle's centre C (the joint's unless moved, torque_geometry.h), fixed to the
-    // forearm as the 2D law has it; its side site 2 r_w from C on the muscle's side.
-    const double cx = m.wrap_centre.x, cy = m.wrap_centre.y;
-    const std::string cylinder_pos = m.wrap_centre.at_joint() ? "" : fmt::format(" pos=\"{}\"", vec(cx, side, cy));
+    // forearm as the 2D law has it; its side site 2 r_w from C on the muscle's side. A surface that is not a circle:
+    // its equivalent circle at the neutral wrist, which WristSim moves as the wrist turns.
+    double r_w = m.wrist_radius, cx = m.wrap_surface.x, cy = m.wrap_surface.y;
+    if (!m.wrap_surface.circular()) {
+      const physics::Placement& p = m.placement;
+      const physics::MusclePath path = physics::muscle_path(p, m.wrist_radius, 0.0, m.wrap_surface);
+      const physics::EquivalentCircle circle = physics::equivalent_circle(p, m.wrist_radius, m.wrap_surface, 0.0, path);
+      std::tie(cx, cy, r_w) = std::tuple{circle.x, circle.y, circle.radius};
+      custom += fmt::format(
+          "    <numeric name=\"{}{}\" size=\"8\" data=\"{:.10g} {:.10g} {:.10g} {:.10g} {:.10g} "
+          "{:.10g} {:.10g} {:.10g}\"/>\n",
+          kWrapSurfaceNumeric, name, p.d1, p.w1, p.d2, p.w2, m.wrist_radius, m.wrap_surface.x, m.wrap_surface.y,
+          m.wrap_surface.aspect);
+    }
+    const bool moved = !(cx == 0.0 && cy == 0.0);
+    const std::string cylinder_pos = moved ? fmt::format(" pos=\"{}\"", vec(cx, side, cy)) : "";
     forearm_items += fmt::format(
         "      <site name=\"{0}_forearm\" pos=\"{1}\" size=\"0.008\" rgba=\"{5}\"/>\n"
         "      <geom name=\"{0}_wrap\" type=\"cylinder\"{6} size=\"{2:.6g} 0.02\" quat=\"{3}\" contype=\"0\" "
@@ -84,15 +98,24 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
       actuators += fmt::format("    <general name=\"{0}\" tendon=\"{0}\" gainprm=\"1\"/>\n", name);
     }
   }
-  if (options.actuators != ActuatorKind::kFpamPlugin || !device.hysteresis.active()) return items;
-  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
-    const std::string name = kMuscleNames[i] + std::string(plugin::FpamConfig::kHysteresisStateSuffix);
-    custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
-                          plugin::FpamConfig::kHysteresisStatePlugin);
-    actuators += fmt::format(
-        "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
-        "biastype=\"user\" actlimited=\"true\" actrange=\"-1 1\"/>\n",
-        name, kMuscleNames[i]);
+  if (options.actuators != ActuatorKind::kFpamPlugin) return items;
+  // The companions: a range of [-1, 1] for the hysteresis branch; none for the pressure's rate.
+  const auto add_companions = [&](std::string_view suffix, std::string_view plugin, const char* range) {
+    for (const char* muscle : kMuscleNames) {
+      const std::string name = muscle + std::string(suffix);
+      custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name), plugin);
+      actuators += fmt::format(
+          "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
+          "biastype=\"user\"{}/>\n",
+          name, muscle, range);
+    }
+  };
+  if (device.hysteresis.active()) {
+    add_companions(plugin::FpamConfig::kHysteresisStateSuffix, plugin::FpamConfig::kHysteresisStatePlugin,
+                   " actlimited=\"true\" actrange=\"-1 1\"");
+  }
+  if (device.regulator.response().second_order()) {
+    add_companions(plugin::FpamConfig::kPressureRateSuffix, plugin::FpamConfig::kPressureRatePlugin, "");
   }
   return items;
 }

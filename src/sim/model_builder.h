@@ -47,6 +47,12 @@ struct ModelOptions {
 // <numeric> "A s" ([N m], [rad]) that WristSim applies about both joints, towards their ranges' ends.
 inline constexpr const char* kLimitStiffeningNumeric = "softwrist.limit_stiffening";
 
+// A muscle whose wrist surface is not a circle (physics::WrapSurface): MuJoCo wraps tendons around spheres and
+// cylinders only, so its wrap cylinder stands for the surface's equivalent circle (torque_geometry.h: tangent to the
+// same segments, the path as long), which WristSim moves before every step from the joint's angle. The custom
+// <numeric> kWrapSurfaceNumeric + MUSCLE holds "d1 w1 d2 w2 r_w x y aspect" [m, m, m, m, m, m, m, -].
+inline constexpr const char* kWrapSurfaceNumeric = "softwrist.wrap_surface:";
+
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});
 
 }  // namespace softwrist::sim

@@ -1,9 +1,12 @@
 #include "sim/wrist_sim.h"
 
+#include <algorithm>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "fpam_config.h"
 #include "sim/model_builder.h"
 
 namespace softwrist::sim {
@@ -23,13 +26,53 @@ void check_stable(const mjData* d) {
 
 }  // namespace
 
-WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) {
+namespace {
+
+// The non-circular wrist surfaces a model carries (model_builder.h kWrapSurfaceNumeric).
+std::vector<WristSim::MovingSurface> moving_surfaces(const mjModel* model) {
+  std::vector<WristSim::MovingSurface> surfaces;
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    const std::string name = kMuscleNames[i];
+    const int numeric = mj_name2id(model, mjOBJ_NUMERIC, (kWrapSurfaceNumeric + name).c_str());
+    if (numeric < 0) continue;
+    if (model->numeric_size[numeric] != 8) {
+      throw std::runtime_error("wrist model: custom numeric '" + (kWrapSurfaceNumeric + name) +
+                               "' must hold 8 values (d1 w1 d2 w2 r_w x y aspect)");
+    }
+    const mjtNum* v = model->numeric_data + model->numeric_adr[numeric];
+    WristSim::MovingSurface s{.muscle = static_cast<MuscleIndex>(i),
+                              .placement = {v[0], v[1], v[2], v[3]},
+                              .wrist_radius = v[4],
+                              .surface = {v[5], v[6], v[7]},
+                              .geom = mj_name2id(model, mjOBJ_GEOM, (name + "_wrap").c_str()),
+                              .side_site = mj_name2id(model, mjOBJ_SITE, (name + "_side").c_str())};
+    if (s.geom < 0 || s.side_site < 0) throw std::runtime_error("wrist model: no wrap cylinder for '" + name + "'");
+    try {
+      physics::validate(s.placement, s.wrist_radius, s.surface);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("wrist model: custom numeric '" + (kWrapSurfaceNumeric + name) + "': " + e.what());
+    }
+    surfaces.push_back(s);
+  }
+  return surfaces;
+}
+
+}  // namespace
+
+WristSim::WristSim(const Model& model)
+    : moving_surfaces_(moving_surfaces(model.get())),
+      model_(moving_surfaces_.empty() ? model : model.Copy()),
+      data_(make_data(model_)) {
   const char* names[2] = {"wrist_fe", "wrist_ur"};
   for (int j = 0; j < 2; ++j) {
     const int joint = model.id(mjOBJ_JOINT, names[j]);
     qpos_address_[j] = model->jnt_qposadr[joint];
     dof_address_[j] = model->jnt_dofadr[joint];
     joint_limits_[j] = {model->jnt_range[2 * joint + 1], -model->jnt_range[2 * joint]};
+  }
+  for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+    const std::string rate = kMuscleNames[i] + std::string(plugin::FpamConfig::kPressureRateSuffix);
+    pressure_rate_actuator_[i] = mj_name2id(model.get(), mjOBJ_ACTUATOR, rate.c_str());
   }
   const int numeric = mj_name2id(model.get(), mjOBJ_NUMERIC, kLimitStiffeningNumeric);
   if (numeric >= 0) {
@@ -44,15 +87,48 @@ WristSim::WristSim(const Model& model) : model_(model), data_(make_data(model)) 
                                "' needs a torque >= 0 and an e-folding angle > 0");
     }
   }
-  // Four fPAMs and, where the fabric has hysteresis, their four branch states after them (sim/model_builder.cc).
-  if (model->nu != model->na || (model->nu != 4 && model->nu != 8))
-    throw std::runtime_error("wrist model: expected four fPAM actuators (and with hysteresis their four states)");
+  // Four fPAMs and after them four companions for each of: the fabric's hysteresis, a second-order regulator
+  // (sim/model_builder.cc).
+  if (model->nu != model->na || (model->nu != 4 && model->nu != 8 && model->nu != 12))
+    throw std::runtime_error(
+        "wrist model: expected four fPAM actuators (and four companions each for hysteresis and a second-order "
+        "regulator)");
   reset();
 }
 
 void WristSim::reset() {
   mj_resetData(model_.get(), data_.get());
+  forward();
+}
+
+void WristSim::forward() {
+  place_wrap_surfaces();
   mj_forward(model_.get(), data_.get());
+}
+
+// The 2D law's equivalent circle (torque_geometry.h) at the muscle's joint angle, in its plane: the cylinder's centre
+// and radius, and its side site 2 r from the centre on the muscle's side, as model_builder puts them.
+void WristSim::place_wrap_surfaces() {
+  if (moving_surfaces_.empty()) return;
+  mjModel* m = model_.get_mutable();
+  for (const MovingSurface& s : moving_surfaces_) {
+    const double angle =
+        physics::direction_of(s.muscle) * data_->qpos[qpos_address_[static_cast<int>(physics::axis_of(s.muscle))]];
+    const double clamped = std::clamp(angle, -std::numbers::pi, std::numbers::pi);
+    const physics::MusclePath path = physics::muscle_path(s.placement, s.wrist_radius, clamped, s.surface);
+    const physics::EquivalentCircle c =
+        physics::equivalent_circle(s.placement, s.wrist_radius, s.surface, clamped, path);
+    const std::array<double, 3>& side = kMuscleSides[s.muscle];
+    for (int k = 0; k < 3; ++k) {
+      m->geom_pos[3 * s.geom + k] = k == 0 ? c.x : side[k] * c.y;
+      m->site_pos[3 * s.side_site + k] = k == 0 ? c.x : side[k] * (c.y + 2.0 * c.radius);
+    }
+    m->geom_size[3 * s.geom] = c.radius;
+    // The compiler marks a geom or site placed at its body's origin as sharing the body's frame, and MuJoCo then
+    // ignores its position: these move.
+    m->geom_sameframe[s.geom] = 0;
+    m->site_sameframe[s.side_site] = 0;
+  }
 }
 
 void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa) {
@@ -72,6 +148,7 @@ void WristSim::apply_limit_stiffening() {
 // sqrt((A/s)/I) dt well below 1 (A = 5 N m, s = 8 deg, I = 0.0034 kg m^2: 0.07 at 1 ms).
 void WristSim::step() {
   apply_limit_stiffening();
+  place_wrap_surfaces();
   mj_step(model_.get(), data_.get());
   check_stable(data_.get());
 }
@@ -95,14 +172,18 @@ void WristSim::run_held(double duration, double fe, double ur) {
     step();
   }
   hold(fe, ur);
-  mj_forward(model_.get(), data_.get());
+  forward();
 }
 
 void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa) {
   hold(fe, ur);
   for (int i = 0; i < 4; ++i) data_->ctrl[i] = data_->act[i] = pressures_kpa[static_cast<std::size_t>(i)];
+  // The pressures held: a second-order regulator's at rest.
+  for (const int rate : pressure_rate_actuator_) {
+    if (rate >= 0) data_->act[rate] = 0.0;
+  }
   apply_limit_stiffening();
-  mj_forward(model_.get(), data_.get());
+  forward();
 }
 
 double WristSim::angle(physics::WristAxis joint) const { return data_->qpos[qpos_address_[static_cast<int>(joint)]]; }

@@ -4,8 +4,10 @@
 // thread; several may share a Model.
 
 #include <array>
+#include <vector>
 
 #include "physics/relaxed_wrist.h"
+#include "physics/torque_geometry.h"
 #include "sim/device.h"
 #include "sim/model.h"
 
@@ -13,6 +15,8 @@ namespace softwrist::sim {
 
 class WristSim {
  public:
+  // Shares `model`, or, where a muscle's wrist surface is not a circle (model_builder.h kWrapSurfaceNumeric), copies
+  // it: its wrap cylinders move with the wrist.
   explicit WristSim(const Model& model);
 
   // Back to the neutral wrist at rest, all pressures zero, time zero.
@@ -38,6 +42,15 @@ class WristSim {
   double muscle_torque(MuscleIndex muscle) const;
 
   const mjModel* model() const { return model_.get(); }
+
+  // A non-circular wrist surface: its muscle, its geometry, and its cylinder's and side site's ids.
+  struct MovingSurface {
+    MuscleIndex muscle{};
+    physics::Placement placement;
+    double wrist_radius = 0.0;
+    physics::WrapSurface surface;
+    int geom = -1, side_site = -1;
+  };
   mjData* data() { return data_.get(); }
 
  private:
@@ -46,10 +59,16 @@ class WristSim {
   // the next step starts from.
   void apply_limit_stiffening();
   void step();
-  const Model& model_;
+  // Each non-circular wrist surface's equivalent circle at the joints' present angles (model_builder.h).
+  void place_wrap_surfaces();
+  void forward();  // mj_forward at the present state, the surfaces placed
+
+  std::vector<MovingSurface> moving_surfaces_;
+  Model model_;  // shared, or this simulation's own copy where surfaces move
   Data data_;
   std::array<int, 2> qpos_address_{};  // FE, UR
   std::array<int, 2> dof_address_{};
+  std::array<int, 4> pressure_rate_actuator_{};          // a second-order regulator's companions (act ids), or -1
   physics::LimitStiffening limit_stiffening_;            // none unless the model carries kLimitStiffeningNumeric
   std::array<std::array<double, 2>, 2> joint_limits_{};  // per joint: positive, negative limit [rad]
 };

@@ -246,6 +246,8 @@ TEST_F(DiagnosisTest, MeasuredPressuresTellRegulatorDeadTimeFromImuLatency) {
     const auto d = run({.device = paper_device(), .regulator_dead_time = 0.08}, paper_device(), both, trajectory_only);
     ASSERT_EQ(d.verdict, "regulator_lag") << d.reason;
     EXPECT_NEAR(param(d.combination.front(), "dead_time_s"), 0.08, 0.01);
+    // The second order that could trade off against the dead time is not taken (ParameterSpec::extension).
+    EXPECT_FALSE(fit_of(d, EffectId::kRegulatorLag).extended);
     EXPECT_LT(fit_of(d, EffectId::kImuBias).shrink_fraction, fit_of(d, EffectId::kRegulatorLag).shrink_fraction - 0.1);
     bool pressure_gap = false;
     for (const auto& t : d.trials) pressure_gap = pressure_gap || (t.unit == "kPa" && t.significant);
@@ -498,14 +500,14 @@ TEST_F(DiagnosisTest, ImuAxesTurnedAboutTheForearmAreImuBias) {
   EXPECT_NEAR(param(fit_of(d, EffectId::kImuBias), "axis_roll_deg"), 10.0, 1.0);
 }
 
-// The wrist circle's centre off the joint (physics::WrapCentre: 5 mm towards the hand, 4 mm towards the palm): the
+// The wrist circle's centre off the joint (physics::WrapSurface: 5 mm towards the hand, 4 mm towards the palm): the
 // flexor's path hugs a circle nearer its hand mount, the extensor's one farther from it. The whole catalogue names
 // wrap_geometry and finds where the centre lies, not another radius.
 TEST_F(DiagnosisTest, WristCircleOffTheJointIsWrapGeometry) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   sim::DeviceDescription real = paper_device();
   for (std::size_t i = 0; i < real.muscles.size(); ++i) {
-    real.muscles[i].wrap_centre = {.x = 0.005, .y = i == sim::kFlexor ? 0.004 : i == sim::kExtensor ? -0.004 : 0.0};
+    real.muscles[i].wrap_surface = {.x = 0.005, .y = i == sim::kFlexor ? 0.004 : i == sim::kExtensor ? -0.004 : 0.0};
   }
   const Diagnosis d = run({.device = real}, paper_device());
   ASSERT_EQ(d.verdict, "wrap_geometry") << d.reason;
@@ -513,6 +515,37 @@ TEST_F(DiagnosisTest, WristCircleOffTheJointIsWrapGeometry) {
   EXPECT_NEAR(param(f, "centre_distal_mm"), 5.0, 1.5);
   EXPECT_NEAR(param(f, "centre_palmar_mm"), 4.0, 1.5);
   EXPECT_NEAR(param(f, "wrist_radius_scale"), 1.0, 0.05);
+}
+
+// A wrist surface that is not a circle (physics::WrapSurface aspect 1.5: flatter along the forearm than across it),
+// on every muscle: the sweeps through the 2D law, the range of motion and trajectories through MuJoCo's equivalent
+// circles. The whole catalogue names wrap_geometry and finds the aspect, an extension kept because it lowers the
+// held-out error by more than one standard error.
+TEST_F(DiagnosisTest, WristSurfaceNotACircleIsWrapGeometry) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription real = paper_device();
+  for (auto& m : real.muscles) m.wrap_surface.aspect = 1.5;
+  const Diagnosis d = run({.device = real}, paper_device());
+  ASSERT_EQ(d.verdict, "wrap_geometry") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kWrapGeometry);
+  EXPECT_TRUE(f.extended);
+  EXPECT_NEAR(param(f, "aspect_scale"), 1.5, 0.15);
+}
+
+// A regulator whose response is of second order (physics/pressure_regulator.h; tau2 = 0.06 s against the nominal's
+// tau = 0.1 s, damping ratio 0.83: the rise starts late and bends like an S). The whole catalogue names regulator_lag
+// and finds the second time, not only a longer first-order lag or a dead time. The trajectory steps its commands: a
+// slow sinusoid shows a regulator only as a lag, which a first-order one has too.
+TEST_F(DiagnosisTest, SecondOrderRegulatorIsRegulatorLag) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription real = paper_device();
+  real.regulator.second_order_time = 0.06;
+  const Diagnosis d = run({.device = real}, paper_device(), {}, {.trajectory_s = 12.0, .trajectory_steps = true});
+  ASSERT_EQ(d.verdict, "regulator_lag") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kRegulatorLag);
+  EXPECT_TRUE(f.extended);
+  EXPECT_NEAR(param(f, "second_order_time_s"), 0.06, 0.015);
+  EXPECT_NEAR(param(f, "time_constant_s"), 0.1, 0.02);
 }
 
 // A relaxed wrist that stiffens towards its limits (physics/relaxed_wrist.h, Riener & Edrich's double exponential)

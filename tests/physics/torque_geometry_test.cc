@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -146,7 +147,20 @@ TEST(MusclePath, RejectsMountsInsideTheWristAndBadAngles) {
                InvalidParameter);
 }
 
-// The wrist circle's centre off the joint (WrapCentre, torque_geometry.h). At the joint, to within a nanometre, the
+struct PathTolerances {
+  double length, moment_arm, angles;
+};
+// The same regime, length and moment arm, and where it wraps the same wrap angle, within `tol`.
+void expect_same_path(const MusclePath& path, const MusclePath& expected, PathTolerances tol, int deg) {
+  ASSERT_EQ(path.regime, expected.regime) << deg;
+  EXPECT_NEAR(path.length, expected.length, tol.length) << deg;
+  EXPECT_NEAR(path.moment_arm, expected.moment_arm, tol.moment_arm) << deg;
+  if (path.regime == Regime::kWrapping) {
+    EXPECT_NEAR(path.wrap_angle, expected.wrap_angle, tol.angles) << deg;
+  }
+}
+
+// The wrist circle's centre off the joint (WrapSurface, torque_geometry.h). At the joint, to within a nanometre, the
 // general construction is the paper's path: issue 19's "each extension reduces to it at its neutral parameters".
 TEST(MusclePathOffCentre, ANanometreOffTheJointIsThePapersPath) {
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
@@ -154,11 +168,9 @@ TEST(MusclePathOffCentre, ANanometreOffTheJointIsThePapersPath) {
   for (const auto& [placement, r_w] : {std::pair{kDesign, kDesignRw}, {rig, 0.0399}}) {
     for (int deg = -80; deg <= 80; deg += 2) {
       const MusclePath paper = muscle_path(placement, r_w, deg_to_rad(deg));
-      const MusclePath moved = muscle_path(placement, r_w, deg_to_rad(deg), WrapCentre{.x = 1e-9, .y = -1e-9});
-      ASSERT_EQ(moved.regime, paper.regime) << deg;
-      EXPECT_NEAR(moved.length, paper.length, 1e-8) << deg;
-      EXPECT_NEAR(moved.moment_arm, paper.moment_arm, 1e-7) << deg;
-      EXPECT_NEAR(moved.wrap_angle, paper.wrap_angle, 1e-6) << deg;
+      const MusclePath moved = muscle_path(placement, r_w, deg_to_rad(deg), WrapSurface{.x = 1e-9, .y = -1e-9});
+      expect_same_path(moved, paper, {.length = 1e-8, .moment_arm = 1e-7, .angles = 1e-6}, deg);
+      EXPECT_NEAR(moved.wrap_angle, paper.wrap_angle, 1e-6) << deg;  // straight too: phi is the circle's either way
       (paper.regime == Regime::kWrapping ? wrapped : straight) += 1;
     }
   }
@@ -173,7 +185,7 @@ TEST(MusclePathOffCentre, ANanometreOffTheJointIsThePapersPath) {
 TEST(MusclePathOffCentre, MomentArmAboutTheJointIsMinusTheLengthsDerivative) {
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
   constexpr double h = 1e-6;
-  for (const WrapCentre centre : {WrapCentre{.x = 0.006, .y = 0.005}, WrapCentre{.x = -0.004, .y = -0.005}}) {
+  for (const WrapSurface centre : {WrapSurface{.x = 0.006, .y = 0.005}, WrapSurface{.x = -0.004, .y = -0.005}}) {
     int wrapped = 0, straight = 0;
     for (int deg = -75; deg <= 75; ++deg) {
       const double theta = deg_to_rad(deg);
@@ -200,12 +212,121 @@ TEST(MusclePathOffCentre, RejectsACentreTheHandMountWouldEnter) {
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
   const double r2 = std::hypot(rig.d2, rig.w2);
   try {
-    muscle_path(rig, 0.0399, 0.0, WrapCentre{.x = r2 - 0.0399, .y = 0.0});
+    muscle_path(rig, 0.0399, 0.0, WrapSurface{.x = r2 - 0.0399, .y = 0.0});
     FAIL();
   } catch (const InvalidParameter& e) {
     EXPECT_NE(std::string(e.what()).find("R2 - |OC|"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapCentre{.x = std::nan(""), .y = 0.0}), InvalidParameter);
+  EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapSurface{.x = std::nan(""), .y = 0.0}), InvalidParameter);
+}
+
+// A wrist surface that is not a circle (WrapSurface::aspect, an ellipse with semi-axes aspect r_w along the forearm
+// and r_w across it). A hair from a circle (aspect 1 + 1e-9) it is the circle's path, about the joint and off it: the
+// extension reduces to the paper's law at its neutral value.
+TEST(MusclePathElliptic, AHairFromACircleIsTheCirclesPath) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  int wrapped = 0, straight = 0;
+  for (const WrapSurface circle : {WrapSurface{}, WrapSurface{.x = 0.005, .y = 0.004}}) {
+    WrapSurface ellipse = circle;
+    ellipse.aspect = 1.0 + 1e-9;
+    for (int deg = -80; deg <= 80; deg += 2) {
+      const MusclePath expected = muscle_path(rig, 0.0399, deg_to_rad(deg), circle);
+      const MusclePath path = muscle_path(rig, 0.0399, deg_to_rad(deg), ellipse);
+      expect_same_path(path, expected, {.length = 1e-9, .moment_arm = 1e-9, .angles = 1e-7}, deg);
+      EXPECT_NEAR(path.tangent_angle, expected.tangent_angle, 1e-7) << deg;
+      (path.regime == Regime::kWrapping ? wrapped : straight) += 1;
+    }
+  }
+  EXPECT_GT(wrapped, 20);
+  EXPECT_GT(straight, 20);
+}
+
+// On an ellipse flatter along the forearm (aspect 1.5) and one rounder (0.7), off the joint: the moment arm about O
+// is minus the length's derivative (virtual work, central differences) in both regimes, the length continuous, and
+// both straight segments tangent to the ellipse (the ellipse's normal at Q1 and Q2 square to them).
+TEST(MusclePathElliptic, MomentArmIsMinusTheLengthsDerivativeAndSegmentsAreTangent) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  constexpr double h = 1e-6, r_w = 0.0399;
+  for (const WrapSurface surface : {WrapSurface{.x = 0.004, .y = 0.003, .aspect = 1.5}, WrapSurface{.aspect = 0.7}}) {
+    const double a = surface.aspect * r_w, b = r_w;
+    int wrapped = 0, straight = 0;
+    for (int deg = -75; deg <= 75; ++deg) {
+      const double theta = deg_to_rad(deg);
+      const MusclePath path = muscle_path(rig, r_w, theta, surface);
+      const double derivative =
+          (muscle_path(rig, r_w, theta + h, surface).length - muscle_path(rig, r_w, theta - h, surface).length) /
+          (2.0 * h);
+      EXPECT_NEAR(path.moment_arm, -derivative, 1e-6) << deg << " deg, aspect " << surface.aspect;
+      EXPECT_LT(std::abs(muscle_path(rig, r_w, deg_to_rad(deg + 1), surface).length - path.length), 0.002) << deg;
+      if (path.regime == Regime::kStraight) {
+        ++straight;
+        continue;
+      }
+      ++wrapped;
+      const TangentPoints q = tangent_points(rig, r_w, surface, theta, path);
+      const Point p1 = forearm_mount(rig), p2 = hand_mount(rig, theta);
+      for (const auto& [qx, qy, mx, my] :
+           {std::tuple{q.q1x, q.q1y, p1.x, p1.y}, std::tuple{q.q2x, q.q2y, p2.x, p2.y}}) {
+        const double ex = (qx - surface.x) / a, ey = (qy - surface.y) / b;
+        EXPECT_NEAR(ex * ex + ey * ey, 1.0, 1e-12) << "on the ellipse, " << deg << " deg";
+        const double nx = ex / a, ny = ey / b, tx = mx - qx, ty = my - qy;  // normal (gradient), segment
+        EXPECT_NEAR((nx * tx + ny * ty) / (std::hypot(nx, ny) * std::hypot(tx, ty)), 0.0, 1e-9) << deg;
+      }
+    }
+    EXPECT_GT(wrapped, 10);
+    EXPECT_GT(straight, 10);
+  }
+}
+
+// The equivalent circle (for MuJoCo's cylinders): a circle path around it, worked out here from tangent lengths and
+// the arc, is as long as the elliptic path and leaves the hand mount along the same line (the same moment arm).
+TEST(MusclePathElliptic, EquivalentCircleHasTheSameLengthAndMomentArm) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  constexpr double r_w = 0.0399;
+  int wrapped = 0;
+  for (const WrapSurface surface : {WrapSurface{.x = 0.004, .y = 0.003, .aspect = 1.5}, WrapSurface{.aspect = 0.7}}) {
+    for (int deg = -75; deg <= 75; deg += 3) {
+      const double theta = deg_to_rad(deg);
+      const MusclePath path = muscle_path(rig, r_w, theta, surface);
+      const EquivalentCircle c = equivalent_circle(rig, r_w, surface, theta, path);
+      const Point p1 = forearm_mount(rig), p2 = hand_mount(rig, theta);
+      if (path.regime == Regime::kStraight) {  // the segment misses the inscribed circle
+        const double dx = p2.x - p1.x, dy = p2.y - p1.y;
+        const double t = std::clamp(((c.x - p1.x) * dx + (c.y - p1.y) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+        EXPECT_GT(std::hypot(p1.x + t * dx - c.x, p1.y + t * dy - c.y), c.radius) << deg;
+        continue;
+      }
+      ++wrapped;
+      // Tangent points from each mount on the muscle's side (+y about the centre: P1 turns clockwise onto it).
+      const auto tangent = [&](Point m, double side) {
+        const double dx = m.x - c.x, dy = m.y - c.y, d = std::hypot(dx, dy);
+        const double at = std::atan2(dy, dx) + side * std::acos(c.radius / d);
+        return std::pair{std::sqrt(d * d - c.radius * c.radius), at};
+      };
+      const auto [l1, t1] = tangent(p1, -1.0);
+      const auto [l2, t2] = tangent(p2, 1.0);
+      double arc = t1 - t2;
+      while (arc < 0.0) arc += 2.0 * std::numbers::pi;
+      EXPECT_NEAR(l1 + c.radius * arc + l2, path.length, 1e-9) << deg << " deg, aspect " << surface.aspect;
+      const double qx = c.x + c.radius * std::cos(t2), qy = c.y + c.radius * std::sin(t2);
+      const double ux = qx - p2.x, uy = qy - p2.y;
+      EXPECT_NEAR((p2.x * uy - p2.y * ux) / std::hypot(ux, uy), path.moment_arm, 1e-9) << deg;
+    }
+  }
+  EXPECT_GT(wrapped, 20);
+}
+
+// An aspect outside [0.25, 4], or an ellipse that reaches the forearm mount, is refused naming why.
+TEST(MusclePathElliptic, RejectsAnAspectOutOfRangeOrAMountInside) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapSurface{.aspect = 5.0}), InvalidParameter);
+  EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapSurface{.aspect = std::nan("")}), InvalidParameter);
+  try {
+    muscle_path(rig, 0.0399, 0.0, WrapSurface{.x = -0.17, .y = 0.02, .aspect = 1.5});  // P1 - C scaled: 0.84
+    FAIL();
+  } catch (const InvalidParameter& e) {
+    EXPECT_NE(std::string(e.what()).find("forearm mount P1"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
 #include "fpam_actuator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
 #include "physics/muscle_torque.h"
 #include "physics/paper_parameters.h"
+#include "physics/pressure_regulator.h"
 
 namespace softwrist::plugin {
 namespace {
@@ -71,6 +74,27 @@ TEST(FpamActuator, RegulatorVentsWithItsOwnTimeConstant) {
   EXPECT_EQ(symmetric->config().ToText().find("vent_time_constant"), std::string::npos);
 }
 
+// A second-order regulator (physics/pressure_regulator.h): the rates carry MuJoCo's explicit 1 ms step to the
+// physics core's exact state, towards the command clamped to [0, max].
+TEST(FpamActuator, SecondOrderRatesStepToThePhysicsCoresState) {
+  std::string error;
+  const auto actuator =
+      create("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0.05 second_order_time=0.04", &error);
+  ASSERT_TRUE(actuator) << error;
+  const physics::RegulatorResponse response{.time_constant = 0.05, .second_order_time = 0.04};
+  for (const auto& [command, pressure, rate] :
+       {std::tuple{100.0, 20.0, 0.0}, {500.0, 50.0, 300.0}, {0.0, 90.0, -40.0}}) {
+    const auto rates = actuator->SecondOrderStep(command, pressure, rate, 1e-3);
+    const auto exact = physics::regulator_step(response, {pressure, rate}, std::clamp(command, 0.0, 137.0), 1e-3);
+    EXPECT_NEAR(pressure + 1e-3 * rates.pressure, exact.pressure, 1e-9) << command;
+    EXPECT_NEAR(rate + 1e-3 * rates.pressure_rate, exact.rate, 1e-9) << command;
+  }
+  const auto stalled = actuator->SecondOrderStep(std::nan(""), 20.0, 0.0, 1e-3);
+  EXPECT_EQ(stalled.pressure, 0.0);
+  EXPECT_EQ(stalled.pressure_rate, 0.0);
+  EXPECT_NE(actuator->config().ToText().find(" second_order_time=0.04"), std::string::npos);
+}
+
 // A malformed configuration fails at load with a message naming the actuator and the attribute.
 TEST(FpamActuator, MalformedConfigurationsNameActuatorAndAttribute) {
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -87,6 +111,7 @@ TEST(FpamActuator, MalformedConfigurationsNameActuatorAndAttribute) {
       {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 time_constant=0", "attribute 'time_constant'"},
       {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 vent_time_constant=-1", "'vent_time_constant'"},
       {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 vent_time_constant=500", "'vent_time_constant'"},
+      {"softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 second_order_time=-0.1", "'second_order_time'"},
       {"other.plugin rest_length=0.3", "is not softwrist.fpam"},
   };
   for (const auto& [text, expected] : cases) {

@@ -31,7 +31,9 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.hand, b.law.mount_stiffness.hand);
   }
   EXPECT_DOUBLE_EQ(a.max_pressure_kpa, b.max_pressure_kpa);
-  EXPECT_DOUBLE_EQ(a.time_constant, b.time_constant);
+  EXPECT_DOUBLE_EQ(a.regulator.time_constant, b.regulator.time_constant);
+  EXPECT_DOUBLE_EQ(a.regulator.vent_time_constant, b.regulator.vent_time_constant);
+  EXPECT_DOUBLE_EQ(a.regulator.second_order_time, b.regulator.second_order_time);
   EXPECT_DOUBLE_EQ(a.hysteresis.fraction, b.hysteresis.fraction);
   EXPECT_DOUBLE_EQ(a.hysteresis.transition_length, b.hysteresis.transition_length);
   EXPECT_DOUBLE_EQ(a.hysteresis.friction_force, b.hysteresis.friction_force);
@@ -42,14 +44,15 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
 // stretching mounts (Table tensile_testing_parameters, Table torque_measurement_parameters) and for a constant one.
 TEST(FpamConfig, WrittenTextReadsBackToItself) {
   const auto rig = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
-  const FpamConfig table{.law = rig, .max_pressure_kpa = 120.0, .time_constant = 0.07};
+  const FpamConfig table{.law = rig, .max_pressure_kpa = 120.0, .regulator = {.time_constant = 0.07}};
+  const FpamConfig second_order{.law = rig, .regulator = {.time_constant = 0.07, .second_order_time = 0.03}};
   const FpamConfig constant{.law = {.fpam = physics::paper::design_fpam(), .rest_length = 0.29}};
   const FpamConfig hysteretic{.law = rig, .hysteresis = {.fraction = 0.12, .transition_length = 0.003}};
   const FpamConfig frictional{
       .law = rig, .hysteresis = {.friction_force = 1.2, .pressure_friction = 0.07, .transition_length = 0.004}};
   const FpamConfig curved{.law = {.fpam = physics::FpamParameters::Constant(0.0123, 0.28, {.elastic_curvature = 15.0}),
                                   .rest_length = 0.29}};
-  for (const FpamConfig& written : {table, constant, hysteretic, frictional, curved}) {
+  for (const FpamConfig& written : {table, second_order, constant, hysteretic, frictional, curved}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;
@@ -66,6 +69,7 @@ TEST(FpamConfig, TextNamesEveryAttributeThatApplies) {
   EXPECT_NE(text.find(" stretch=none "), std::string::npos) << text;
   EXPECT_NE(text.find(" max_pressure_kpa=137 time_constant=0.1"), std::string::npos) << text;
   EXPECT_EQ(text.find("hysteresis"), std::string::npos) << "none unless the fabric has it: " << text;
+  EXPECT_EQ(text.find("second_order_time"), std::string::npos) << "a first-order regulator: " << text;
 }
 
 // The fabric's hysteresis (physics/fpam_hysteresis.h): h within [0, 0.5), a positive transition length, a dry

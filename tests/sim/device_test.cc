@@ -42,11 +42,13 @@ TEST(PlacementFile, RoundTrips) {
   d.stretch_mode = physics::StretchMode::kNone;
   d.regulator.time_constant = 0.05;
   d.regulator.vent_time_constant = 0.15;
+  d.regulator.second_order_time = 0.03;
   d.wrist.limit_stiffening = {.torque = 1.5, .angle_scale = units::deg_to_rad(10.0)};
   const std::string text = device_to_json(d);
   EXPECT_EQ(device_to_json(parse_device(text, "x.json")), text);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").wrist.limit_stiffening.torque, 1.5);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.vent_time_constant, 0.15);
+  EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.second_order_time, 0.03);
   // A fabric other than the paper's (a J-shaped one) is written, read back, and changes the text the replays' caches
   // key on; the paper's is not written.
   DeviceDescription curved = d;
@@ -56,18 +58,27 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_EQ(parse_device(curved_text, "x.json").fpam.fabric(), curved.fpam.fabric());
   EXPECT_EQ(device_to_json(parse_device(curved_text, "x.json")), curved_text);
   EXPECT_EQ(text.find("\"fabric\""), std::string::npos);
-  // A wrist circle off the joint (physics::WrapCentre) likewise; at the joint, nothing is written.
+  // A wrist circle off the joint (physics::WrapSurface) likewise; at the joint, nothing is written.
   DeviceDescription moved = d;
-  moved.muscles[kUlnar].wrap_centre = {.x = 0.004, .y = -0.003};
+  moved.muscles[kUlnar].wrap_surface = {.x = 0.004, .y = -0.003};
   const std::string moved_text = device_to_json(moved);
   EXPECT_NE(moved_text.find("wrap_centre_x_cm"), std::string::npos);
-  EXPECT_NEAR(parse_device(moved_text, "x.json").muscles[kUlnar].wrap_centre.y, -0.003, 1e-15);
-  EXPECT_TRUE(parse_device(moved_text, "x.json").muscles[kFlexor].wrap_centre.at_joint());
+  EXPECT_NEAR(parse_device(moved_text, "x.json").muscles[kUlnar].wrap_surface.y, -0.003, 1e-15);
+  EXPECT_TRUE(parse_device(moved_text, "x.json").muscles[kFlexor].wrap_surface.at_joint());
   EXPECT_EQ(device_to_json(parse_device(moved_text, "x.json")), moved_text);
   EXPECT_EQ(text.find("wrap_centre"), std::string::npos);
+  // A wrist surface that is not a circle likewise (wrap_aspect, written only when not 1).
+  DeviceDescription elliptic = d;
+  elliptic.muscles[kExtensor].wrap_surface.aspect = 1.3;
+  const std::string elliptic_text = device_to_json(elliptic);
+  EXPECT_DOUBLE_EQ(parse_device(elliptic_text, "x.json").muscles[kExtensor].wrap_surface.aspect, 1.3);
+  EXPECT_TRUE(parse_device(elliptic_text, "x.json").muscles[kFlexor].wrap_surface.circular());
+  EXPECT_EQ(device_to_json(parse_device(elliptic_text, "x.json")), elliptic_text);
+  EXPECT_EQ(text.find("wrap_aspect"), std::string::npos);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
+  EXPECT_EQ(symmetric.find("second_order_time_s"), std::string::npos) << "a first-order regulator";
   EXPECT_EQ(parse_device(symmetric, "x.json").regulator.vent_time_constant, 0.0);
   nlohmann::json zero = nlohmann::json::parse(symmetric);
   zero["regulator"]["vent_time_constant_s"] = 0;  // stated as "the same as time_constant_s"
@@ -92,6 +103,7 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["muscles"]["ulnar"]["rw_cm"] = 4; }), "muscles.ulnar: hand mount distance R2"},
       {with([](auto& j) { j["muscles"]["flexor"]["wrap_centre_x_cm"] = 8; }),
        "muscles.flexor: hand mount distance R2 - |OC|"},
+      {with([](auto& j) { j["muscles"]["flexor"]["wrap_aspect"] = 9; }), "muscles.flexor: wrap surface aspect"},
       {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
       {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
       {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
@@ -109,6 +121,8 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = 1e4; }), "regulator.vent_time_constant_s"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = -1; }), "regulator.vent_time_constant_s"},
+      {with([](auto& j) { j["regulator"]["second_order_time_s"] = -0.01; }), "regulator.second_order_time_s"},
+      {with([](auto& j) { j["regulator"]["second_order_time_s"] = 1e3; }), "regulator.second_order_time_s"},
       {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_nm"] = 50; }), "wrist.limit_stiffening_nm: must lie in [0, 20]"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_scale_deg"] = 1; }), "wrist.limit_stiffening_scale_deg"},

@@ -10,6 +10,7 @@
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
 #include "physics/muscle_torque.h"
+#include "physics/pressure_regulator.h"
 #include "physics/units.h"
 #include "sim/device.h"
 #include "sim/model_builder.h"
@@ -113,18 +114,58 @@ TEST(ModelCrossCheck, EveryMuscleMatchesThe2DModelInItsPlane) {
     expect_matches_in_its_plane(sim, device, kPlanes[k], -50, 50, 5, wrapped, straight);
 }
 
-// The wrist circle's centre off the joint (physics::WrapCentre): the generated model moves each wrap cylinder with it,
+// The wrist circle's centre off the joint (physics::WrapSurface): the generated model moves each wrap cylinder with it,
 // fixed to the forearm as the 2D law has it, and the two agree as at the joint, in both regimes, for all four muscles.
 TEST(ModelCrossCheck, EveryMuscleMatchesThe2DModelWithTheWrapCentreOffTheJoint) {
   DeviceDescription device = paper_device();
-  const std::array<physics::WrapCentre, 4> centres = {
+  const std::array<physics::WrapSurface, 4> centres = {
       {{.x = 0.006, .y = 0.004}, {.x = 0.006, .y = -0.004}, {.x = -0.003, .y = 0.005}, {.x = -0.003, .y = -0.005}}};
-  for (std::size_t i = 0; i < 4; ++i) device.muscles[i].wrap_centre = centres[i];
+  for (std::size_t i = 0; i < 4; ++i) device.muscles[i].wrap_surface = centres[i];
   Sim sim(device);
   int wrapped = 0, straight = 0;
   for (const PlaneCase& c : kPlanes) expect_matches_in_its_plane(sim, device, c, -60, 60, 4, wrapped, straight);
   EXPECT_GT(wrapped, 20);
   EXPECT_GT(straight, 20);
+}
+
+// A wrist surface that is not a circle (physics::WrapSurface aspect): MuJoCo wraps only cylinders, so the wrap cylinder
+// stands for the surface's equivalent circle, which WristSim moves before every evaluation (model_builder.h). In each
+// muscle's plane the tendon length equals the 2D path on the ellipse to 1e-9 m and the torque the 2D model's within
+// 2 %, in both regimes, for all four muscles; the shared model is not touched (WristSim moves its own copy).
+TEST(ModelCrossCheck, EveryMuscleMatchesThe2DModelOnANonCircularWrist) {
+  DeviceDescription device = paper_device();
+  const std::array<physics::WrapSurface, 4> surfaces = {{{.aspect = 1.4},
+                                                         {.x = 0.003, .y = -0.002, .aspect = 0.75},
+                                                         {.aspect = 1.25},
+                                                         {.x = -0.002, .y = 0.003, .aspect = 1.6}}};
+  for (std::size_t i = 0; i < 4; ++i) device.muscles[i].wrap_surface = surfaces[i];
+  const Model model = Model::FromXml(build_model_xml(device), plugins());
+  const std::vector<double> sizes(model->geom_size, model->geom_size + 3 * model->ngeom);
+  WristSim wrist(model);
+  int wrapped = 0, straight = 0;
+  for (const PlaneCase& c : kPlanes) {
+    const physics::Muscle muscle = device.muscle(c.muscle);
+    for (int deg = -60; deg <= 60; deg += 4) {
+      std::array<double, 4> kpa{};
+      kpa[static_cast<std::size_t>(c.muscle)] = 103.0;
+      const double q = deg_to_rad(deg);
+      wrist.set_pose(c.fe_plane ? q : 0.0, c.fe_plane ? 0.0 : q, kpa);
+      const auto expected = physics::muscle_state(muscle, c.dof_sign * q, 103e3);
+      ASSERT_NEAR(wrist.data()->actuator_length[c.muscle], expected.path_length, 1e-9) << c.muscle << " " << deg;
+      const double torque = wrist.muscle_torque(static_cast<MuscleIndex>(c.muscle));
+      ASSERT_NEAR(torque, expected.torque, std::max(0.02, 0.02 * std::abs(expected.torque))) << c.muscle << " " << deg;
+      (expected.regime == physics::Regime::kWrapping ? wrapped : straight) += 1;
+    }
+  }
+  EXPECT_GT(wrapped, 20);
+  EXPECT_GT(straight, 20);
+  EXPECT_NE(wrist.model(), model.get());
+  EXPECT_EQ(std::vector<double>(model->geom_size, model->geom_size + 3 * model->ngeom), sizes);
+  // Free motion stays finite with the surfaces moving every step.
+  wrist.reset();
+  wrist.command_pressures_kpa({137.0, 0.0, 80.0, 0.0});
+  wrist.run(1.0);
+  EXPECT_GT(wrist.angle(physics::WristAxis::kFlexionExtension), deg_to_rad(5.0));
 }
 
 // Regulator: a step in commanded pressure reaches 63 % at the time constant; the pressure never leaves [0, max].
@@ -151,6 +192,30 @@ TEST(ModelRegulator, StepReaches63PercentAtTheTimeConstantAndStaysInRange) {
   EXPECT_GE(low, 0.0);
   EXPECT_LE(high, 137.0 + 1e-9);
   EXPECT_GT(high, 136.0);
+}
+
+// A second-order regulator (physics/pressure_regulator.h, tau2 = 0.08 s against tau = 0.1 s: damping ratio 0.625):
+// the pressure and its rate, kept in the muscle's companion actuator, are the physics core's exact steps, and the
+// pressure overshoots the command as such a regulator does.
+TEST(ModelRegulator, SecondOrderPressureIsThePhysicsCoresAndOvershoots) {
+  DeviceDescription device = paper_device();
+  device.regulator.second_order_time = 0.08;
+  Sim sim(device);
+  ASSERT_EQ(sim.model->nu, 8) << "four fPAMs and their four pressure rates";
+  const int rate = sim.model.id(mjOBJ_ACTUATOR, "flexor_pressure_rate");
+  mj_resetData(sim.model.get(), sim.data.get());
+  physics::RegulatedPressure expected;
+  double peak = 0.0;
+  for (int step = 0; step < 500; ++step) {
+    sim.data->ctrl[kFlexor] = 100.0;
+    mj_step(sim.model.get(), sim.data.get());
+    expected = physics::regulator_step(device.regulator.response(), expected, 100.0, sim.model->opt.timestep);
+    ASSERT_NEAR(sim.data->act[kFlexor], expected.pressure, 1e-9) << step;
+    ASSERT_NEAR(sim.data->act[rate], expected.rate, 1e-7) << step;
+    EXPECT_EQ(sim.data->actuator_force[rate], 0.0) << "a companion pulls nothing";
+    peak = std::max(peak, sim.data->act[kFlexor]);
+  }
+  EXPECT_GT(peak, 105.0);
 }
 
 // Free motion: each muscle alone at 137 kPa moves the relaxed wrist in its own direction and it settles there.
@@ -369,6 +434,23 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
   cases.push_back(
       {state_replaced("name=\"flexor_hysteresis\" tendon=\"flexor\"", "name=\"flexor_hysteresis\" tendon=\"extensor\""),
        "actuator 'flexor_hysteresis': must act on the same tendon as 'flexor'"});
+  // A second-order regulator without its pressure's rate.
+  DeviceDescription second_order = paper_device();
+  second_order.regulator.second_order_time = 0.03;
+  std::string with_rates = build_model_xml(second_order);
+  const std::string rate_actuator =
+      "    <general name=\"radial_pressure_rate\" tendon=\"radial\" dyntype=\"user\" gaintype=\"fixed\" "
+      "gainprm=\"0\" biastype=\"user\"/>\n";
+  const auto rate_at = with_rates.find(rate_actuator);
+  EXPECT_NE(rate_at, std::string::npos);
+  if (rate_at != std::string::npos) with_rates.erase(rate_at, rate_actuator.size());
+  cases.push_back(
+      {with_rates, "actuator 'radial': has a second-order regulator but no actuator 'radial_pressure_rate'"});
+  std::string rk4 = build_model_xml(second_order);
+  const auto option_at = rk4.find("<option ");
+  EXPECT_NE(option_at, std::string::npos);
+  if (option_at != std::string::npos) rk4.insert(option_at + 8, "integrator=\"RK4\" ");
+  cases.push_back({rk4, "actuator 'flexor': a second-order regulator needs the Euler integrator, not RK4"});
   for (const auto& [text, expected] : cases) {
     try {
       Model::FromXml(text, plugins());
