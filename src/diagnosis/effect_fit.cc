@@ -112,7 +112,7 @@ SearchedPoint search_base_form(const std::function<double(std::span<const double
   return found;
 }
 
-// The extensions' search (fit_effect): from the base form's optimum and from the effect's start, each with its
+// The extensions' search (extend_fit): from the base form's optimum and from the effect's start, each with its
 // extensions at 0.2, 0.5 and 0.8 of their ranges (a base form that has taken part of an extension's effect can sit
 // far from the joint optimum: a larger wrist circle moved towards the hand for a flatter ellipse), then BOBYQA over
 // every parameter from the best of them and of the base optimum.
@@ -158,6 +158,57 @@ std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const
   return acted_on;
 }
 
+namespace {
+
+// One effect on one base model: the fit's objective over the unit cube (the training error, counting evaluations
+// into `evaluations`), the held-out sums at a point, and the effect's start.
+struct EffectObjective {
+  EffectObjective(const GapProblem& gap_problem, EffectId id, const BaseModel& base_model, int& evaluation_count)
+      : problem(gap_problem), spec(effect_spec(id)), base(base_model), evaluations(evaluation_count) {
+    const std::vector<double> start = fit_start(id, base.variant.device);
+    for (std::size_t i = 0; i < start.size(); ++i) start_u.push_back(spec.parameters[i].to_unit(start[i]));
+  }
+  ModelVariant variant_at(std::span<const double> u) const {
+    ModelVariant v = base.variant;
+    apply_effect(spec.id, values_of(spec, u), v);
+    return v;
+  }
+  double operator()(std::span<const double> u) const {
+    ++evaluations;
+    try {
+      const double error =
+          problem.training_error(predictions_with(problem, variant_at(u), spec, /*training_only=*/true, base.training));
+      return std::isfinite(error) ? error : kInfeasible;
+    } catch (const std::exception&) {  // an unphysical device (physics::InvalidParameter) or a diverged replay
+      return kInfeasible;
+    }
+  }
+  UnitSums heldout_at(std::span<const double> u) const {
+    return problem.heldout_sums(predictions_with(problem, variant_at(u), spec, /*training_only=*/false, base.full));
+  }
+
+  const GapProblem& problem;
+  const EffectSpec& spec;
+  const BaseModel& base;
+  int& evaluations;
+  std::vector<double> start_u;
+};
+
+// `fit`'s values, training error, held-out error and its interval, at the unit-cube point `at`.
+void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoint& at, const UnitSums& after,
+            const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed) {
+  fit.values = values_of(objective.spec, at.u);
+  fit.params = describe_values(fit.id, fit.values, nominal);
+  fit.train_error_after = at.training_error;
+  fit.heldout_error_after = objective.problem.heldout_error(after);
+  fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
+  std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(
+      objective.problem, objective.problem.heldout_sums(objective.base.full), after, options.bootstrap, seed);
+  fit.heldout_after_sums = after;
+}
+
+}  // namespace
+
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
                      const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed) {
   const EffectSpec& spec = effect_spec(id);
@@ -165,71 +216,46 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   fit.applicable = std::any_of(problem.trials().begin(), problem.trials().end(),
                                [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
   fit.train_error_before = problem.training_error(base.training);
-  const UnitSums before = problem.heldout_sums(base.full);
-  fit.heldout_error_before = problem.heldout_error(before);
+  fit.heldout_error_before = problem.heldout_error(problem.heldout_sums(base.full));
   if (!fit.applicable) {
     fit.heldout_error_after = fit.heldout_error_before;
     fit.train_error_after = fit.train_error_before;
     return fit;
   }
-  const auto variant_at = [&](std::span<const double> values) {
-    ModelVariant v = base.variant;
-    apply_effect(id, values, v);
-    return v;
-  };
-  const auto objective = [&](std::span<const double> u) {
-    ++fit.evaluations;
-    try {
-      const double error = problem.training_error(
-          predictions_with(problem, variant_at(values_of(spec, u)), spec, /*training_only=*/true, base.training));
-      return std::isfinite(error) ? error : kInfeasible;
-    } catch (const std::exception&) {  // an unphysical device (physics::InvalidParameter) or a diverged replay
-      return kInfeasible;
-    }
-  };
-  const std::vector<double> start = fit_start(id, base.variant.device);
-  std::vector<double> start_u(start.size());
-  for (std::size_t i = 0; i < start.size(); ++i) start_u[i] = spec.parameters[i].to_unit(start[i]);
-  const auto heldout_at = [&](std::span<const double> u) {
-    return problem.heldout_sums(
-        predictions_with(problem, variant_at(values_of(spec, u)), spec, /*training_only=*/false, base.full));
-  };
-
-  // The base form first: the extensions (ParameterSpec::extension) held at their starting values, the neutral or the
-  // nominal's own.
-  std::vector<std::size_t> base_indices, extension_indices;
-  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
-    (spec.parameters[i].extension ? extension_indices : base_indices).push_back(i);
-  SearchedPoint searched = search_base_form(objective, start_u, base_indices, options.max_evaluations);
-  UnitSums after = heldout_at(searched.u);
-
-  // Then the extensions, on an effect whose base form is a candidate (it closes min_gain of the held-out gap, what
-  // joining the combination takes), kept where they lower the held-out error by more than one paired bootstrap
-  // standard error (the one-standard-error rule of the ranking, within an effect: a dead time the data pin down is
-  // not traded for a second-order regulator they cannot tell from it).
-  if (!extension_indices.empty() &&
-      fraction_closed(fit.heldout_error_before, problem.heldout_error(after)) >= options.min_gain) {
-    const int n = static_cast<int>(spec.parameters.size());
-    const SearchedPoint extended = search_extensions(objective, searched, start_u, extension_indices,
-                                                     options.max_evaluations + 15 * std::max(0, n - 2));
-    if (extended.training_error < searched.training_error) {
-      const UnitSums extended_after = heldout_at(extended.u);
-      const double se = paired_difference_se(problem, after, extended_after, options.bootstrap, seed);
-      if (problem.heldout_error(extended_after) < problem.heldout_error(after) - se) {
-        searched = extended;
-        after = extended_after;
-        fit.extended = true;
-      }
-    }
+  // The base form: the extensions (ParameterSpec::extension) held at their starting values, the neutral or the
+  // nominal's own (extend_fit tries them).
+  const EffectObjective objective(problem, id, base, fit.evaluations);
+  std::vector<std::size_t> base_indices;
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+    if (!spec.parameters[i].extension) base_indices.push_back(i);
   }
-  fit.values = values_of(spec, searched.u);
-  fit.params = describe_values(id, fit.values, nominal);
-  fit.train_error_after = searched.training_error;
-  fit.heldout_error_after = problem.heldout_error(after);
-  fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
-  std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(problem, before, after, options.bootstrap, seed);
-  fit.heldout_after_sums = after;
+  const SearchedPoint searched = search_base_form(objective, objective.start_u, base_indices, options.max_evaluations);
+  record(fit, objective, searched, objective.heldout_at(searched.u), nominal, options, seed);
   return fit;
+}
+
+bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base, const sim::DeviceDescription& nominal,
+                const DiagnosisOptions& options, std::uint64_t seed) {
+  const EffectSpec& spec = effect_spec(fit.id);
+  std::vector<std::size_t> extension_indices;
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+    if (spec.parameters[i].extension) extension_indices.push_back(i);
+  }
+  if (!fit.applicable || extension_indices.empty() || fit.shrink_fraction < options.min_gain) return false;
+  const EffectObjective objective(problem, fit.id, base, fit.evaluations);
+  SearchedPoint base_optimum{.u = {}, .training_error = fit.train_error_after};
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
+    base_optimum.u.push_back(spec.parameters[i].to_unit(fit.values[i]));
+  const int n = static_cast<int>(spec.parameters.size());
+  const SearchedPoint extended = search_extensions(objective, base_optimum, objective.start_u, extension_indices,
+                                                   options.max_evaluations + 15 * std::max(0, n - 2));
+  if (!(extended.training_error < base_optimum.training_error)) return false;
+  const UnitSums after = objective.heldout_at(extended.u);
+  const double se = paired_difference_se(problem, fit.heldout_after_sums, after, options.bootstrap, seed);
+  if (!(problem.heldout_error(after) < fit.heldout_error_after - se)) return false;
+  record(fit, objective, extended, after, nominal, options, seed);
+  fit.extended = true;
+  return true;
 }
 
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,

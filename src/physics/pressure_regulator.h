@@ -35,6 +35,7 @@ struct RegulatedPressure {
 // system), so that an explicit step of any length stays stable however fast the second pole; the venting time
 // constant where the command lies below the pressure. With !second_order(), the first-order lag's exact step and its
 // rate at the new pressure.
-RegulatedPressure regulator_step(const RegulatorResponse& response, RegulatedPressure state, double commanded, double dt);
+RegulatedPressure regulator_step(const RegulatorResponse& response, RegulatedPressure state, double commanded,
+                                 double dt);
 
 }  // namespace softwrist::physics
