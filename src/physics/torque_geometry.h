@@ -101,8 +101,10 @@ class PlacementGeometry {
 
   Placement placement_;
   WrapSurface surface_;
-  double wrist_radius_, tangent_length1_, tangent_length2_, tangent_angle_, wrap_angle_at_zero_;
-  double cos_q2_at_zero_, sin_q2_at_zero_;  // of psi + phi0: Q2's polar angle is psi + phi0 - theta
+  double wrist_radius_;
+  // The circle's (unused on an ellipse).
+  double tangent_length1_ = 0.0, tangent_length2_ = 0.0, tangent_angle_ = 0.0, wrap_angle_at_zero_ = 0.0;
+  double cos_q2_at_zero_ = 0.0, sin_q2_at_zero_ = 0.0;  // of psi + phi0: Q2's polar angle is psi + phi0 - theta
 };
 
 // The joint angle [rad] at which the muscle stops wrapping: Eqn. parameters2 solved for phi = 0,

@@ -24,10 +24,6 @@ void check_stable(const mjData* d) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // The non-circular wrist surfaces a model carries (model_builder.h kWrapSurfaceNumeric).
 std::vector<WristSim::MovingSurface> moving_surfaces(const mjModel* model) {
   std::vector<WristSim::MovingSurface> surfaces;
