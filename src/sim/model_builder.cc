@@ -99,12 +99,13 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
     }
   }
   if (options.actuators != ActuatorKind::kFpamPlugin) return items;
-  // The companions: a range of [-1, 1] for the hysteresis branch; none for the pressure's rate.
-  const auto add_companions = [&](std::string_view suffix, std::string_view plugin, const char* range) {
+  // The companions: a range of [-1, 1] for the hysteresis branch; none for the pressure's rate. (Through `items`:
+  // clang before 16 cannot capture structured bindings.)
+  const auto add_companions = [&items](std::string_view suffix, std::string_view companion, const char* range) {
     for (const char* muscle : kMuscleNames) {
       const std::string name = muscle + std::string(suffix);
-      custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name), plugin);
-      actuators += fmt::format(
+      items.custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name), companion);
+      items.actuators += fmt::format(
           "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
           "biastype=\"user\"{}/>\n",
           name, muscle, range);
