@@ -63,6 +63,21 @@ struct SearchedPoint {
   double training_error = 0.0;
 };
 
+// BOBYQA's model of n parameters needs 2n + 1 points before its first step: a larger effect gets a larger budget,
+// 15 evaluations per parameter beyond two.
+int search_budget(int max_evaluations, std::size_t parameters) {
+  return max_evaluations + 15 * std::max(0, static_cast<int>(parameters) - 2);
+}
+
+// The indices of `spec`'s extensions (ParameterSpec::extension), or of its base form's parameters.
+std::vector<std::size_t> parameter_indices(const EffectSpec& spec, bool extensions) {
+  std::vector<std::size_t> indices;
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+    if (spec.parameters[i].extension == extensions) indices.push_back(i);
+  }
+  return indices;
+}
+
 // BOBYQA from `u` within the unit cube.
 SearchedPoint polish(const std::function<double(std::span<const double>)>& objective, const std::vector<double>& u,
                      int max_evaluations) {
@@ -93,8 +108,7 @@ SearchedPoint search_unit_cube(const std::function<double(std::span<const double
 }
 
 // The base form's search (fit_effect): the parameters `base_indices` from the start, the grid and BOBYQA, the others
-// held at their starting values. BOBYQA's model of n parameters needs 2n + 1 points before its first step: a larger
-// effect gets a larger budget, 15 evaluations per parameter beyond two.
+// held at their starting values.
 SearchedPoint search_base_form(const std::function<double(std::span<const double>)>& objective,
                                const std::vector<double>& start_u, const std::vector<std::size_t>& base_indices,
                                int max_evaluations) {
@@ -105,9 +119,8 @@ SearchedPoint search_base_form(const std::function<double(std::span<const double
   };
   std::vector<double> reduced_start;
   for (const std::size_t i : base_indices) reduced_start.push_back(start_u[i]);
-  const int budget = max_evaluations + 15 * std::max(0, static_cast<int>(base_indices.size()) - 2);
   SearchedPoint found = search_unit_cube([&](std::span<const double> r) { return objective(expand(r)); },
-                                         std::move(reduced_start), budget);
+                                         std::move(reduced_start), search_budget(max_evaluations, base_indices.size()));
   found.u = expand(found.u);
   return found;
 }
@@ -161,10 +174,14 @@ std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const
 namespace {
 
 // One effect on one base model: the fit's objective over the unit cube (the training error, counting evaluations
-// into `evaluations`), the held-out sums at a point, and the effect's start.
+// into `evaluations`), the held-out sums at a point and the base model's, and the effect's start.
 struct EffectObjective {
   EffectObjective(const GapProblem& gap_problem, EffectId id, const BaseModel& base_model, int& evaluation_count)
-      : problem(gap_problem), spec(effect_spec(id)), base(base_model), evaluations(evaluation_count) {
+      : problem(gap_problem),
+        spec(effect_spec(id)),
+        base(base_model),
+        evaluations(evaluation_count),
+        before(gap_problem.heldout_sums(base_model.full)) {
     const std::vector<double> start = fit_start(id, base.variant.device);
     for (std::size_t i = 0; i < start.size(); ++i) start_u.push_back(spec.parameters[i].to_unit(start[i]));
   }
@@ -191,6 +208,7 @@ struct EffectObjective {
   const EffectSpec& spec;
   const BaseModel& base;
   int& evaluations;
+  UnitSums before;  // the base model's held-out sums
   std::vector<double> start_u;
 };
 
@@ -202,8 +220,8 @@ void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoin
   fit.train_error_after = at.training_error;
   fit.heldout_error_after = objective.problem.heldout_error(after);
   fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
-  std::tie(fit.ci_low, fit.ci_high) = bootstrap_interval(
-      objective.problem, objective.problem.heldout_sums(objective.base.full), after, options.bootstrap, seed);
+  std::tie(fit.ci_low, fit.ci_high) =
+      bootstrap_interval(objective.problem, objective.before, after, options.bootstrap, seed);
   fit.heldout_after_sums = after;
 }
 
@@ -216,7 +234,8 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   fit.applicable = std::any_of(problem.trials().begin(), problem.trials().end(),
                                [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
   fit.train_error_before = problem.training_error(base.training);
-  fit.heldout_error_before = problem.heldout_error(problem.heldout_sums(base.full));
+  const EffectObjective objective(problem, id, base, fit.evaluations);
+  fit.heldout_error_before = problem.heldout_error(objective.before);
   if (!fit.applicable) {
     fit.heldout_error_after = fit.heldout_error_before;
     fit.train_error_after = fit.train_error_before;
@@ -224,11 +243,7 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   }
   // The base form: the extensions (ParameterSpec::extension) held at their starting values, the neutral or the
   // nominal's own (extend_fit tries them).
-  const EffectObjective objective(problem, id, base, fit.evaluations);
-  std::vector<std::size_t> base_indices;
-  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
-    if (!spec.parameters[i].extension) base_indices.push_back(i);
-  }
+  const std::vector<std::size_t> base_indices = parameter_indices(spec, /*extensions=*/false);
   const SearchedPoint searched = search_base_form(objective, objective.start_u, base_indices, options.max_evaluations);
   record(fit, objective, searched, objective.heldout_at(searched.u), nominal, options, seed);
   return fit;
@@ -237,18 +252,14 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
 bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base, const sim::DeviceDescription& nominal,
                 const DiagnosisOptions& options, std::uint64_t seed) {
   const EffectSpec& spec = effect_spec(fit.id);
-  std::vector<std::size_t> extension_indices;
-  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
-    if (spec.parameters[i].extension) extension_indices.push_back(i);
-  }
+  const std::vector<std::size_t> extension_indices = parameter_indices(spec, /*extensions=*/true);
   if (!fit.applicable || extension_indices.empty() || fit.shrink_fraction < options.min_gain) return false;
   const EffectObjective objective(problem, fit.id, base, fit.evaluations);
   SearchedPoint base_optimum{.u = {}, .training_error = fit.train_error_after};
   for (std::size_t i = 0; i < spec.parameters.size(); ++i)
     base_optimum.u.push_back(spec.parameters[i].to_unit(fit.values[i]));
-  const int n = static_cast<int>(spec.parameters.size());
   const SearchedPoint extended = search_extensions(objective, base_optimum, objective.start_u, extension_indices,
-                                                   options.max_evaluations + 15 * std::max(0, n - 2));
+                                                   search_budget(options.max_evaluations, spec.parameters.size()));
   if (!(extended.training_error < base_optimum.training_error)) return false;
   const UnitSums after = objective.heldout_at(extended.u);
   const double se = paired_difference_se(problem, fit.heldout_after_sums, after, options.bootstrap, seed);

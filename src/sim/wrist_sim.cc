@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -36,18 +37,22 @@ std::vector<WristSim::MovingSurface> moving_surfaces(const mjModel* model) {
                                "' must hold 8 values (d1 w1 d2 w2 r_w x y aspect)");
     }
     const mjtNum* v = model->numeric_data + model->numeric_adr[numeric];
-    WristSim::MovingSurface s{.muscle = static_cast<MuscleIndex>(i),
-                              .placement = {v[0], v[1], v[2], v[3]},
-                              .wrist_radius = v[4],
-                              .surface = {v[5], v[6], v[7]},
-                              .geom = mj_name2id(model, mjOBJ_GEOM, (name + "_wrap").c_str()),
-                              .side_site = mj_name2id(model, mjOBJ_SITE, (name + "_side").c_str())};
-    if (s.geom < 0 || s.side_site < 0) throw std::runtime_error("wrist model: no wrap cylinder for '" + name + "'");
+    const physics::Placement placement{v[0], v[1], v[2], v[3]};
+    const physics::WrapSurface surface{v[5], v[6], v[7]};
+    std::optional<physics::PlacementGeometry> geometry;
     try {
-      physics::validate(s.placement, s.wrist_radius, s.surface);
+      geometry.emplace(placement, v[4], surface);
     } catch (const std::exception& e) {
       throw std::runtime_error("wrist model: custom numeric '" + (kWrapSurfaceNumeric + name) + "': " + e.what());
     }
+    const WristSim::MovingSurface s{.muscle = static_cast<MuscleIndex>(i),
+                                    .placement = placement,
+                                    .wrist_radius = v[4],
+                                    .surface = surface,
+                                    .geometry = *geometry,
+                                    .geom = mj_name2id(model, mjOBJ_GEOM, (name + "_wrap").c_str()),
+                                    .side_site = mj_name2id(model, mjOBJ_SITE, (name + "_side").c_str())};
+    if (s.geom < 0 || s.side_site < 0) throw std::runtime_error("wrist model: no wrap cylinder for '" + name + "'");
     surfaces.push_back(s);
   }
   return surfaces;
@@ -89,6 +94,12 @@ WristSim::WristSim(const Model& model)
     throw std::runtime_error(
         "wrist model: expected four fPAM actuators (and four companions each for hysteresis and a second-order "
         "regulator)");
+  // The compiler marks a geom or site placed at its body's origin as sharing the body's frame, and MuJoCo then
+  // ignores its position: the moving surfaces' cylinders and side sites move (in this simulation's own copy).
+  for (const MovingSurface& s : moving_surfaces_) {
+    model_.get_mutable()->geom_sameframe[s.geom] = 0;
+    model_.get_mutable()->site_sameframe[s.side_site] = 0;
+  }
   reset();
 }
 
@@ -111,7 +122,7 @@ void WristSim::place_wrap_surfaces() {
     const double angle =
         physics::direction_of(s.muscle) * data_->qpos[qpos_address_[static_cast<int>(physics::axis_of(s.muscle))]];
     const double clamped = std::clamp(angle, -std::numbers::pi, std::numbers::pi);
-    const physics::MusclePath path = physics::muscle_path(s.placement, s.wrist_radius, clamped, s.surface);
+    const physics::MusclePath path = s.geometry.at(clamped);
     const physics::EquivalentCircle c =
         physics::equivalent_circle(s.placement, s.wrist_radius, s.surface, clamped, path);
     const std::array<double, 3>& side = kMuscleSides[s.muscle];
@@ -120,10 +131,6 @@ void WristSim::place_wrap_surfaces() {
       m->site_pos[3 * s.side_site + k] = k == 0 ? c.x : side[k] * (c.y + 2.0 * c.radius);
     }
     m->geom_size[3 * s.geom] = c.radius;
-    // The compiler marks a geom or site placed at its body's origin as sharing the body's frame, and MuJoCo then
-    // ignores its position: these move.
-    m->geom_sameframe[s.geom] = 0;
-    m->site_sameframe[s.side_site] = 0;
   }
 }
 

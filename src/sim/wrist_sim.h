@@ -49,6 +49,7 @@ class WristSim {
     physics::Placement placement;
     double wrist_radius = 0.0;
     physics::WrapSurface surface;
+    physics::PlacementGeometry geometry;  // of the three above, validated once
     int geom = -1, side_site = -1;
   };
   mjData* data() { return data_.get(); }
