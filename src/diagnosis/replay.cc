@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -266,6 +267,52 @@ PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
   return p;
 }
 
+// The logged commands as the regulators receive them, `dead_time` late, averaged over each simulation step. A
+// command reaches the regulators at its row's time plus the dead time, which in general falls within a step; the
+// regulators integrate their input, so the step's mean command is their input to first order in the step, and the
+// replay is continuous in the dead time (applied at the next step instead, a fit of the dead time met a staircase of
+// one step's width: the Nelder-Mead search stalled on its flats). Where every change falls on a step's start (no
+// dead time, rows on the step grid) it is exactly the row in force.
+class StepCommands {
+ public:
+  // `before`: the command the regulators hold before the first row reaches them.
+  StepCommands(const std::vector<TrajectorySample>& samples, double dead_time, const control::Pressures& before)
+      : samples_(samples), dead_time_(dead_time), in_force_(before) {}
+  // The mean command over the step [from, to) of the log's time, or nothing if it is the previous step's command.
+  std::optional<control::Pressures> over(double from, double to) {
+    bool changed = mixed_;
+    while (next_ < samples_.size() && arrival(next_) <= from + kSnap) {  // reached by the step's start
+      in_force_ = samples_[next_++].command_kpa;
+      changed = true;
+    }
+    mixed_ = false;
+    if (next_ == samples_.size() || arrival(next_) >= to - kSnap) {
+      return changed ? std::optional(in_force_) : std::nullopt;
+    }
+    // Rows reach the regulators within the step: each command in force for its share of it.
+    control::Pressures mean{};
+    double at = from;
+    while (at < to) {
+      const double until = next_ < samples_.size() && arrival(next_) < to - kSnap ? arrival(next_) : to;
+      for (std::size_t m = 0; m < 4; ++m) mean[m] += in_force_[m] * (until - at) / (to - from);
+      if (until < to) in_force_ = samples_[next_++].command_kpa;
+      at = until;
+    }
+    mixed_ = true;
+    return mean;
+  }
+
+ private:
+  // Changes closer than this to a step's edge count as at it (the log's times are not exact multiples of the step).
+  static constexpr double kSnap = 1e-9;  // [s]
+  double arrival(std::size_t row) const { return samples_[row].t + dead_time_; }
+  const std::vector<TrajectorySample>& samples_;
+  double dead_time_;
+  control::Pressures in_force_;
+  std::size_t next_ = 0;  // rows that have reached the regulators
+  bool mixed_ = false;    // the last step's command was a mean
+};
+
 std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon) {
   return fmt::format("{}|{}|{}|{}|{}", trial.name, trial.file, sim::device_to_json(variant.device_for(trial)),
                      variant.regulator_dead_time, horizon);
@@ -351,8 +398,9 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::cached(
   return result;
 }
 
-sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const Trial& trial) const {
+sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const Trial& trial, double timestep) const {
   sim::ModelOptions options;
+  options.timestep = timestep;
   options.anatomy = false;  // drawing only: it moves nothing, and compiling its meshes was 90 % of a model's load
   const auto axis = gravity_axis(trial.conventions.posture);
   options.gravity = axis ? sim::kStandardGravity : 0.0;
@@ -363,7 +411,7 @@ sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
                                                                       double horizon) {
   return cached(cache_key(trial, variant, horizon), [&] {
-    const sim::Model model = load_model(variant.device_for(trial), trial);
+    const sim::Model model = load_model(variant.device_for(trial), trial, steps_.trajectory);
     sim::WristSim wrist(model);
     wrist.reset();
     const auto& samples = trial.trajectory;
@@ -378,15 +426,12 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
     result->fe.reserve(steps);
     result->ur.reserve(steps);
     for (auto& p : result->pressure_kpa) p.reserve(steps);
-    std::size_t next = 0;  // the next logged command not yet applied
+    StepCommands commands(
+        samples, variant.regulator_dead_time,
+        trial.conventions.angles_zeroed_at_start ? samples.front().command_kpa : control::Pressures{});
     for (std::size_t k = 0; k < steps; ++k) {
-      const double commanded_at = wrist.time() - start - variant.regulator_dead_time;
-      bool changed = false;
-      while (next < samples.size() && samples[next].t <= commanded_at + 1e-12) {
-        ++next;
-        changed = true;
-      }
-      if (changed) wrist.command_pressures_kpa(samples[next - 1].command_kpa);
+      const double t = wrist.time() - start;
+      if (const auto command = commands.over(t, t + result->dt)) wrist.command_pressures_kpa(*command);
       result->fe.push_back(wrist.angle(physics::WristAxis::kFlexionExtension));
       result->ur.push_back(wrist.angle(physics::WristAxis::kUlnarRadial));
       for (std::size_t m = 0; m < 4; ++m) {
@@ -406,7 +451,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
   return cached(fmt::format("rom|{}|{}|{}", trial.name, trial.file, sim::device_to_json(device)), [&] {
     // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
     // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
-    const sim::Model model = load_model(device, trial);
+    const sim::Model model = load_model(device, trial, steps_.settle);
     sim::WristSim wrist(model);
     auto result = std::make_shared<Simulated>();
     for (const auto& [muscle_index, pressure] : conditions) {
@@ -545,10 +590,17 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
   const auto simulated = simulate(trial, variant, horizon);
   const double imu_period = sim::ImuModel{}.period_s;
   const std::size_t n = trial.trajectory.size();
+  // `series` at time `t`, linear between the steps (a row's time is not always on the step's grid).
+  const auto at = [&](const std::vector<double>& series, double t) {
+    const double k = std::clamp(t / simulated->dt, 0.0, static_cast<double>(series.size() - 1));
+    const auto below = std::min(series.size() - 1, static_cast<std::size_t>(k));
+    const std::size_t above = std::min(series.size() - 1, below + 1);
+    const double w = k - static_cast<double>(below);
+    return w < 1e-9 ? series[below] : (1.0 - w) * series[below] + w * series[above];
+  };
   // The reading the IMUs last sampled (every 10 ms) before `t`, `latency` late, of `series`.
   const auto imu_reading = [&](const std::vector<double>& series, double t) {
-    const double sampled = std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period);
-    return series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(sampled / simulated->dt)))];
+    return at(series, std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period));
   };
   // Zeroed angles read 0 at the first row: the replay's own angles then are subtracted.
   const bool zeroed = trial.conventions.angles_zeroed_at_start;
@@ -562,10 +614,7 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
     const double t = trial.trajectory[i % n].t;
     if (prepared.pressures) {  // the regulator's monitor output, read with the row
       const auto m = static_cast<std::size_t>(point.channel - 2);
-      const auto& series = simulated->pressure_kpa[m];
-      out[i] = variant.monitor_gain[m] *
-                   series[std::min(series.size() - 1, static_cast<std::size_t>(std::lround(t / simulated->dt)))] +
-               pa_to_kpa(variant.monitor_offset[m]);
+      out[i] = variant.monitor_gain[m] * at(simulated->pressure_kpa[m], t) + pa_to_kpa(variant.monitor_offset[m]);
       continue;
     }
     // The IMU pair's axes turned by imu_axis_roll about the forearm (effects.h) mix the two angles.

@@ -1,0 +1,101 @@
+// Replaying a trajectory's logged commands (diagnosis/replay.h): a regulator dead time reaches the regulators within
+// a simulation step, and the replay is continuous in it; on the step's grid it is the row in force, as a simulation
+// that switches the command at the step does.
+
+#include "diagnosis/replay.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sim/model_builder.h"
+#include "sim/device.h"
+#include "sim/wrist_sim.h"
+
+namespace softwrist::diagnosis {
+namespace {
+
+constexpr double kRow = 0.014;   // [s] the paper's control period
+constexpr double kStep = 0.2;    // [s] the flexor's command steps to 100 kPa here
+constexpr double kEnd = 0.5;     // [s]
+constexpr std::size_t kFlexorPressure = 0;  // the pressures' trial: channel 2 + muscle, muscle-major
+
+class ReplayDeadTime : public ::testing::Test {
+ protected:
+  ReplayDeadTime() {
+    trial_.kind = TrialKind::kTrajectory;
+    trial_.name = trial_.file = "steps";
+    for (int i = 0; i * kRow <= kEnd + 1e-9; ++i) {
+      TrajectorySample s{.t = i * kRow};
+      if (s.t >= kStep) s.command_kpa[0] = 100.0;
+      s.measured_kpa = control::Pressures{};
+      trial_.trajectory.push_back(s);
+    }
+    data_.trials.push_back(trial_);
+    prepared_ = prepare(data_, engine_, ModelVariant{.device = sim::paper_device()});
+  }
+
+  // The flexor's replayed pressure [kPa] at each row, with the commands `dead_time` late.
+  std::vector<double> flexor_pressure(double dead_time) {
+    const PreparedTrial& pressures = prepared_.at(1);
+    EXPECT_TRUE(pressures.pressures);
+    const std::vector<double> all =
+        engine_.predict(pressures, ModelVariant{.device = sim::paper_device(), .regulator_dead_time = dead_time}, false);
+    const std::size_t n = trial_.trajectory.size();
+    return {all.begin() + static_cast<long>(kFlexorPressure * n), all.begin() + static_cast<long>((kFlexorPressure + 1) * n)};
+  }
+
+  Trial trial_;
+  RealData data_;
+  ReplayEngine engine_{sim::PluginSet::Default()};
+  std::vector<PreparedTrial> prepared_;
+};
+
+TEST_F(ReplayDeadTime, ADeadTimeWithinAStepMovesThePressuresContinuously) {
+  // 10.5 ms: the step to 100 kPa reaches the regulators half way through a 1 ms step. Applied at the next step, the
+  // replay would be the 11 ms one; it is the mean of the 10 and 11 ms replays instead.
+  const std::vector<double> early = flexor_pressure(0.010), half = flexor_pressure(0.0105),
+                            late = flexor_pressure(0.011);
+  int rising = 0;
+  for (std::size_t i = 0; i < half.size(); ++i) {
+    if (early[i] - late[i] < 0.05) continue;  // before the step, or settled
+    ++rising;
+    // The regulator is linear and stepped exactly, and the half step's mean command is the mean of the other two
+    // replays' commands in that step: the mean of their pressures, to rounding.
+    EXPECT_NEAR(half[i], 0.5 * (early[i] + late[i]), 1e-9) << "row " << i;
+  }
+  EXPECT_GE(rising, 10);
+}
+
+TEST_F(ReplayDeadTime, OnTheStepsGridItIsTheRowInForce) {
+  // 4 ms, rows every 14 ms: every change falls on a step's start. The same commands switched at the step in a
+  // simulation of the same model give the same pressures to the last bit.
+  const std::vector<double> replayed = flexor_pressure(0.004);
+  sim::ModelOptions options;
+  options.anatomy = false;
+  options.gravity = 0.0;
+  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(sim::paper_device(), options),
+                                               sim::PluginSet::Default(), "steps");
+  sim::WristSim wrist(model);
+  wrist.reset();
+  const double dt = model->opt.timestep;
+  double first_on = 0.0;  // the first row that commands 100 kPa
+  for (const TrajectorySample& s : trial_.trajectory) {
+    if (s.command_kpa[0] > 0.0 && first_on == 0.0) first_on = s.t;
+  }
+  std::vector<double> direct;
+  for (int k = 0; direct.size() < trial_.trajectory.size(); ++k) {
+    const double t = k * dt;
+    if (std::abs(t - trial_.trajectory[direct.size()].t) < 1e-9) {
+      direct.push_back(wrist.regulated_pressure_kpa(sim::kFlexor));
+    }
+    wrist.command_pressures_kpa({t >= first_on + 0.004 - 1e-9 ? 100.0 : 0.0, 0.0, 0.0, 0.0});
+    wrist.run(dt);
+  }
+  ASSERT_EQ(replayed.size(), direct.size());
+  for (std::size_t i = 0; i < direct.size(); ++i) EXPECT_EQ(replayed[i], direct[i]) << "row " << i;
+}
+
+}  // namespace
+}  // namespace softwrist::diagnosis
