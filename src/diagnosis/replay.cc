@@ -1,6 +1,7 @@
 #include "diagnosis/replay.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -389,7 +390,10 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::cached(
     const std::string& key, const std::function<std::shared_ptr<const Simulated>()>& compute) {
   {
     std::lock_guard lock(mutex_);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    if (auto it = cache_.find(key); it != cache_.end()) {
+      ++stats_.cache_hits;
+      return it->second;
+    }
   }
   std::shared_ptr<const Simulated> result = compute();  // outside the lock: replays run in parallel
   std::lock_guard lock(mutex_);
@@ -408,9 +412,15 @@ sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const 
   return sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
 }
 
+ReplayStats ReplayEngine::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
                                                                       double horizon) {
   return cached(cache_key(trial, variant, horizon), [&] {
+    const auto started = std::chrono::steady_clock::now();
     const sim::Model model = load_model(variant.device_for(trial), trial, steps_.trajectory);
     sim::WristSim wrist(model);
     wrist.reset();
@@ -442,6 +452,10 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
         throw std::runtime_error(fmt::format("{}: the replay diverged at t = {} s", trial.name, wrist.time() - start));
       }
     }
+    std::lock_guard lock(mutex_);
+    ++stats_.trajectories;
+    stats_.trajectory_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    stats_.trajectory_sim_s += horizon;
     return std::shared_ptr<const Simulated>(std::move(result));
   });
 }
@@ -451,6 +465,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
   return cached(fmt::format("rom|{}|{}|{}", trial.name, trial.file, sim::device_to_json(device)), [&] {
     // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
     // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
+    const auto started = std::chrono::steady_clock::now();
     const sim::Model model = load_model(device, trial, steps_.settle);
     sim::WristSim wrist(model);
     auto result = std::make_shared<Simulated>();
@@ -469,6 +484,9 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
       }
       result->fe.push_back(rad_to_deg(physics::direction_of(muscle) * wrist.angle(physics::axis_of(muscle))));
     }
+    std::lock_guard lock(mutex_);
+    stats_.settles += std::ssize(conditions);
+    stats_.settle_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return std::shared_ptr<const Simulated>(std::move(result));
   });
 }

@@ -90,6 +90,16 @@ struct ReplaySteps {
   double settle = 0.002;      // [s]
 };
 
+// What the simulated replays cost (cached ones not counted): where a diagnosis's time goes.
+struct ReplayStats {
+  long trajectories = 0;
+  double trajectory_s = 0.0;      // [s] their wall time, summed over threads
+  double trajectory_sim_s = 0.0;  // [s] of the trials' time simulated
+  long settles = 0;               // range-of-motion replays (each muscle and pressure of a trial)
+  double settle_s = 0.0;          // [s] their wall time, summed over threads
+  long cache_hits = 0;
+};
+
 // Runs replays; holds the MuJoCo plugins and a small cache of simulated trajectories (a fit of the IMU's offset and
 // latency changes only what is read from a simulation, so it reuses one). Thread-safe.
 class ReplayEngine {
@@ -100,6 +110,7 @@ class ReplayEngine {
   std::vector<double> predict(const PreparedTrial& trial, const ModelVariant& variant, bool training_only);
   // Throws std::runtime_error naming why the model cannot replay the trial (a pressure beyond its regulators).
   void check_replayable(const Trial& trial, const ModelVariant& variant) const;
+  ReplayStats stats() const;
 
  private:
   struct Simulated {
@@ -123,7 +134,8 @@ class ReplayEngine {
                                           const std::vector<std::pair<int, double>>& conditions);
   sim::PluginSet plugins_;
   ReplaySteps steps_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;  // guards cache_ and stats_
+  ReplayStats stats_;
   std::map<std::string, std::shared_ptr<const Simulated>> cache_;
 };
 

@@ -9,16 +9,16 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/model_builder.h"
 #include "sim/device.h"
+#include "sim/model_builder.h"
 #include "sim/wrist_sim.h"
 
 namespace softwrist::diagnosis {
 namespace {
 
-constexpr double kRow = 0.014;   // [s] the paper's control period
-constexpr double kStep = 0.2;    // [s] the flexor's command steps to 100 kPa here
-constexpr double kEnd = 0.5;     // [s]
+constexpr double kRow = 0.014;              // [s] the paper's control period
+constexpr double kStep = 0.2;               // [s] the flexor's command steps to 100 kPa here
+constexpr double kEnd = 0.5;                // [s]
 constexpr std::size_t kFlexorPressure = 0;  // the pressures' trial: channel 2 + muscle, muscle-major
 
 class ReplayDeadTime : public ::testing::Test {
@@ -40,10 +40,11 @@ class ReplayDeadTime : public ::testing::Test {
   std::vector<double> flexor_pressure(double dead_time) {
     const PreparedTrial& pressures = prepared_.at(1);
     EXPECT_TRUE(pressures.pressures);
-    const std::vector<double> all =
-        engine_.predict(pressures, ModelVariant{.device = sim::paper_device(), .regulator_dead_time = dead_time}, false);
+    const std::vector<double> all = engine_.predict(
+        pressures, ModelVariant{.device = sim::paper_device(), .regulator_dead_time = dead_time}, false);
     const std::size_t n = trial_.trajectory.size();
-    return {all.begin() + static_cast<long>(kFlexorPressure * n), all.begin() + static_cast<long>((kFlexorPressure + 1) * n)};
+    return {all.begin() + static_cast<long>(kFlexorPressure * n),
+            all.begin() + static_cast<long>((kFlexorPressure + 1) * n)};
   }
 
   Trial trial_;
@@ -75,8 +76,8 @@ TEST_F(ReplayDeadTime, OnTheStepsGridItIsTheRowInForce) {
   sim::ModelOptions options;
   options.anatomy = false;
   options.gravity = 0.0;
-  const sim::Model model = sim::Model::FromXml(sim::build_model_xml(sim::paper_device(), options),
-                                               sim::PluginSet::Default(), "steps");
+  const sim::Model model =
+      sim::Model::FromXml(sim::build_model_xml(sim::paper_device(), options), sim::PluginSet::Default(), "steps");
   sim::WristSim wrist(model);
   wrist.reset();
   const double dt = model->opt.timestep;
@@ -95,6 +96,19 @@ TEST_F(ReplayDeadTime, OnTheStepsGridItIsTheRowInForce) {
   }
   ASSERT_EQ(replayed.size(), direct.size());
   for (std::size_t i = 0; i < direct.size(); ++i) EXPECT_EQ(replayed[i], direct[i]) << "row " << i;
+}
+
+TEST_F(ReplayDeadTime, ReplaysAreCountedAndCachedOnesAreNot) {
+  const ReplayStats before = engine_.stats();
+  flexor_pressure(0.02);
+  flexor_pressure(0.02);  // the same variant: from the cache
+  flexor_pressure(0.03);
+  const ReplayStats after = engine_.stats();
+  EXPECT_EQ(after.trajectories - before.trajectories, 2);
+  EXPECT_EQ(after.cache_hits - before.cache_hits, 1);
+  EXPECT_NEAR(after.trajectory_sim_s - before.trajectory_sim_s, 2 * trial_.trajectory.back().t, 1e-9);
+  EXPECT_GT(after.trajectory_s, before.trajectory_s);
+  EXPECT_EQ(after.settles, 0);  // no range of motion here
 }
 
 }  // namespace
