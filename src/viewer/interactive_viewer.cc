@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "report/offscreen_renderer.h"
 #include "report/scene_style.h"
+#include "sim/wrist_sim.h"
 #include "viewer/viewer_state.h"
 
 namespace softwrist::viewer {
@@ -46,6 +48,7 @@ struct WindowDeleter {
 struct Session {
   const mjModel* model = nullptr;
   mjData* data = nullptr;
+  sim::WristSim* wrist = nullptr;  // a softwrist model: steps as the experiments do
   ViewerState state;
   mjvCamera camera;
   mjvOption option;
@@ -54,7 +57,8 @@ struct Session {
   bool left = false, right = false;
   double last_x = 0.0, last_y = 0.0;
 
-  Session(const mjModel* m, mjData* d, ViewerState s) : model(m), data(d), state(std::move(s)) {
+  Session(const mjModel* m, mjData* d, ViewerState s, sim::WristSim* w)
+      : model(m), data(d), wrist(w), state(std::move(s)) {
     mjv_defaultCamera(&camera);
     mjv_defaultOption(&option);
     mjv_defaultScene(&scene);
@@ -76,8 +80,26 @@ struct Session {
     if (state.camera() == CameraMode::kPalmar) report::set_view_camera(report::View::kPalmar, &camera);
   }
   void reset() {
+    if (wrist != nullptr) {
+      wrist->reset();
+      return;
+    }
     mj_resetData(model, data);
     mj_forward(model, data);
+  }
+  // Advances `duration` [s]. A softwrist model through WristSim (the relaxed wrist's stiffening towards its limits,
+  // wrist surfaces that are not circles); an unstable state is reset, as MuJoCo does on its own.
+  void advance(double duration) {
+    if (wrist == nullptr) {
+      const double end = data->time + duration;
+      while (data->time < end) mj_step(model, data);
+      return;
+    }
+    try {
+      wrist->run(duration);
+    } catch (const std::runtime_error&) {
+      reset();
+    }
   }
 };
 
@@ -140,7 +162,14 @@ constexpr const char* kHelp =
 }  // namespace
 
 ViewerSummary run_viewer(const sim::Model& sim_model, const ViewerOptions& options) {
-  const mjModel* model = sim_model.get();
+  // A softwrist model (its wrist joints) steps as the experiments do, and one that WristSim refuses is an error naming
+  // why; any other MJCF steps with MuJoCo alone.
+  std::optional<sim::WristSim> wrist;
+  if (mj_name2id(sim_model.get(), mjOBJ_JOINT, "wrist_fe") >= 0 &&
+      mj_name2id(sim_model.get(), mjOBJ_JOINT, "wrist_ur") >= 0) {
+    wrist.emplace(sim_model);
+  }
+  const mjModel* model = wrist ? wrist->model() : sim_model.get();
   ViewerState state(actuator_ranges(model, options.default_max_kpa));
   for (const auto& [actuator, kpa] : options.initial_commands_kpa) state.set_command(actuator, kpa);
 
@@ -153,8 +182,9 @@ ViewerSummary run_viewer(const sim::Model& sim_model, const ViewerOptions& optio
   glfwMakeContextCurrent(window);
   glfwSwapInterval(options.frames > 0 ? 0 : 1);
 
-  const sim::Data data = sim::make_data(sim_model);
-  Session s(model, data.get(), std::move(state));  // freed before the window (declared after it)
+  const sim::Data own_data = wrist ? sim::Data{} : sim::make_data(sim_model);
+  mjData* data = wrist ? wrist->data() : own_data.get();
+  Session s(model, data, std::move(state), wrist ? &*wrist : nullptr);  // freed before the window (declared after it)
   glfwSetWindowUserPointer(window, &s);
   glfwSetKeyCallback(window, on_key);
   glfwSetMouseButtonCallback(window, on_button);
@@ -172,17 +202,16 @@ ViewerSummary run_viewer(const sim::Model& sim_model, const ViewerOptions& optio
     last = now;
     if (!s.state.paused()) {
       for (int u = 0; u < model->nu; ++u) data->ctrl[u] = s.state.commands_kpa()[static_cast<std::size_t>(u)];
-      const double end = data->time + elapsed;
-      while (data->time < end) mj_step(model, data.get());
+      s.advance(elapsed);
       summary.simulated_s += elapsed;
     }
     int width = 0, height = 0;
     glfwGetFramebufferSize(window, &width, &height);
     const mjrRect viewport = {0, 0, width, height};
-    mjv_updateScene(model, data.get(), &s.option, nullptr, &s.camera, mjCAT_ALL, &s.scene);
-    report::colour_muscles_by_pressure(model, data.get(), options.default_max_kpa, &s.scene);
+    mjv_updateScene(model, data, &s.option, nullptr, &s.camera, mjCAT_ALL, &s.scene);
+    report::colour_muscles_by_pressure(model, data, options.default_max_kpa, &s.scene);
     mjr_render(viewport, &s.scene, &s.context);
-    const auto rows = s.state.overlay(model, data.get());
+    const auto rows = s.state.overlay(model, data);
     mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, rows_text(rows, true).c_str(), rows_text(rows, false).c_str(),
                 &s.context);
     mjr_overlay(mjFONT_NORMAL, mjGRID_BOTTOMLEFT, viewport, kHelp, nullptr, &s.context);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -11,6 +12,12 @@
 
 #include "io/subprocess.h"
 #include "io/text_file.h"
+#include "physics/units.h"
+#include "sim/device.h"
+#include "sim/model.h"
+#include "sim/model_builder.h"
+#include "sim/plugins.h"
+#include "sim/wrist_sim.h"
 #include "support/scratch_dir_test.h"
 
 namespace softwrist::viewer {
@@ -53,6 +60,48 @@ TEST_F(ViewUnderXvfb, DrawsSimulatesAndSavesAScreenshot) {
   EXPECT_EQ(big_endian(png, 16), 640u);  // IHDR width, height
   EXPECT_EQ(big_endian(png, 20), 480u);
   EXPECT_GT(png.size(), 20000u);  // a blank 640x480 frame compresses to a few kB
+}
+
+// The viewer steps a softwrist model as the experiments do (sim::WristSim): with the flexor's wrist surface an
+// ellipse, its wrap cylinder moves with the wrist. The extensor at 137 kPa against the flexor at 100 extends the
+// wrist, and the flexor wraps. Stepped by MuJoCo alone, as the viewer did before, the cylinder stays at the neutral
+// wrist's equivalent circle, and the wrist ended at -56.0 deg instead of -16.6.
+TEST_F(ViewUnderXvfb, ASoftwristModelMovesAsInTheExperiments) {
+  if (!fs::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/test.sh installs it)";
+  sim::DeviceDescription device = sim::paper_device();
+  device.muscles[sim::kFlexor].wrap_surface.aspect = 1.6;
+  const fs::path placement = dir_ / "elliptic.json";
+  std::ofstream(placement) << sim::device_to_json(device);
+  const char* asan = std::getenv("ASAN_OPTIONS");
+  const std::string asan_options = "ASAN_OPTIONS=" + std::string(asan != nullptr ? asan : "") + ":detect_leaks=0";
+  const int code = io::run_process(
+      {"env", asan_options, "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", SOFTWRIST_BINARY, "view", "--placement",
+       placement.string(), "--frames", "90", "--pressures-kpa", "100,137,0,0", "--width", "320", "--height", "240"},
+      {.stdout_file = dir_ / "out.txt", .stderr_file = dir_ / "err.txt"});
+  ASSERT_EQ(code, 0) << io::read_text_file(dir_ / "err.txt");
+  const std::string out = io::read_text_file(dir_ / "out.txt");
+  const std::size_t at = out.find("wrist_fe:");
+  ASSERT_NE(at, std::string::npos) << out;
+  const double viewed_deg = std::stod(out.substr(at + 9));
+
+  // The viewer's frames: the commands set, then 1/60 s.
+  const sim::Model model =
+      sim::Model::FromXml(sim::build_model_xml(device), sim::PluginSet::Default(), "the generated model");
+  sim::WristSim wrist(model);
+  const sim::Data plain = sim::make_data(model);
+  for (int frame = 0; frame < 90; ++frame) {
+    wrist.command_pressures_kpa({100.0, 137.0, 0.0, 0.0});
+    wrist.run(1.0 / 60.0);
+    plain->ctrl[0] = 100.0;
+    plain->ctrl[1] = 137.0;
+    const double end = plain->time + 1.0 / 60.0;
+    while (plain->time < end) mj_step(model.get(), plain.get());
+  }
+  const double experiments_deg = units::rad_to_deg(wrist.angle(physics::WristAxis::kFlexionExtension));
+  const int fe = model.id(mjOBJ_JOINT, "wrist_fe");
+  const double plain_deg = units::rad_to_deg(plain->qpos[model->jnt_qposadr[fe]]);
+  EXPECT_NEAR(viewed_deg, experiments_deg, 0.06) << out;               // the overlay prints a tenth of a degree
+  EXPECT_GT(std::abs(plain_deg - experiments_deg), 0.5) << plain_deg;  // what the test tells apart
 }
 
 TEST_F(ViewUnderXvfb, WithoutADisplayTheErrorSaysSo) {
