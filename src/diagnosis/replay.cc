@@ -272,7 +272,7 @@ PreparedTrial prepare_trajectory(const Trial& trial, bool pressures) {
 // command reaches the regulators at its row's time plus the dead time, which in general falls within a step; the
 // regulators integrate their input, so the step's mean command is their input to first order in the step, and the
 // replay is continuous in the dead time (applied at the next step instead, a fit of the dead time met a staircase of
-// one step's width: the Nelder-Mead search stalled on its flats). Where every change falls on a step's start (no
+// one step's width: a true 40 ms came out 47 ms, docs/diagnosis.md). Where every change falls on a step's start (no
 // dead time, rows on the step grid) it is exactly the row in force.
 class StepCommands {
  public:
