@@ -76,7 +76,8 @@ class ReplayEngine;
 std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, const ModelVariant& nominal);
 
 // The simulation steps of the replays, measured against replays at 0.5 ms of the paper-sized data set (72 s
-// trajectory, commands every 14 ms; 24 range-of-motion conditions):
+// trajectory, commands every 14 ms; 24 range-of-motion conditions; the replays dumped by a throwaway change to this
+// file, not kept):
 //  - trajectories: the generated model's 1 ms. At 2 ms their angles differ from the 0.5 ms replay by 0.033 / 0.058
 //    deg RMS (flexion / ulnar), at 1 ms by 0.028 / 0.056: the step adds little to what the first-order integrator
 //    leaves at 1 ms. But data made by the catalogue's own simulated device (at 1 ms) are then not reproduced by the
