@@ -34,6 +34,7 @@ struct DiagnoseOptions {
   std::string tolerances;  // a tolerance file
   bool no_tolerances = false;
   bool rank_beyond_tolerances = false;
+  bool pressures_from_commands = false;
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -59,7 +60,9 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   const auto start = std::chrono::steady_clock::now();
   diagnosis::RealData data = diagnosis::load_real_data(o.real);
   for (const auto& p : data.problems) err << fmt::format("skipped {}: {}\n", p.file, p.reason);
-  diagnosis::ReplayEngine engine(sim::PluginSet::Default());
+  diagnosis::ReplayEngine engine(sim::PluginSet::Default(), {},
+                                 o.pressures_from_commands ? diagnosis::PressureSource::kCommands
+                                                           : diagnosis::PressureSource::kMeasuredWhereLogged);
   const std::size_t problems_before = data.problems.size();
   const diagnosis::Diagnosis d = diagnosis::diagnose(std::move(data), nominal, engine, options);
   for (std::size_t i = problems_before; i < d.problems.size(); ++i) {
@@ -446,6 +449,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--rank-beyond-tolerances", d->rank_beyond_tolerances,
                      "Experimental: rank the effects fitted on top of the nominal within its tolerances, and decide "
                      "there (docs/diagnosis.md)");
+  diagnose->add_flag("--pressures-from-commands", d->pressures_from_commands,
+                     "Replay trajectories from their commands through the simulated regulators even where the log "
+                     "has the measured pressures (by default those drive the muscles; docs/diagnosis.md)");
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 

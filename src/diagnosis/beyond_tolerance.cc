@@ -41,7 +41,7 @@ void score(const GapProblem& problem, const Within& w, const UnitSums& reference
   b.heldout_error_within = problem.heldout_error(reference);
   b.heldout_error_with_effect = problem.heldout_error(after);
   b.explained_fraction = fraction_closed(b.heldout_error_within, b.heldout_error_with_effect);
-  const std::vector<bool> acted_on = gap_trials_acted_on(trials, effect_spec(b.id));
+  const std::vector<bool> acted_on = gap_trials_acted_on(problem, trials, effect_spec(b.id));
   if (std::any_of(acted_on.begin(), acted_on.end(), [](bool a) { return a; })) {
     b.explained_in_acted_on = fraction_closed(problem.heldout_error(reference, nullptr, &acted_on),
                                               problem.heldout_error(after, nullptr, &acted_on));
@@ -70,7 +70,7 @@ std::vector<EffectId> applicable_effects(const GapProblem& problem, const Diagno
   std::erase_if(ids, [&](EffectId id) {
     const EffectSpec& spec = effect_spec(id);
     return std::none_of(problem.trials().begin(), problem.trials().end(),
-                        [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
+                        [&](const PreparedTrial& t) { return acts_on(spec, t); });
   });
   return ids;
 }

@@ -290,7 +290,7 @@ void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVaria
   if (d.combination.empty()) return;
   const EffectFit& leading = d.combination.front();
   d.leading_effect = leading.name;
-  const std::vector<bool> acted_on = gap_trials_acted_on(d.trials, effect_spec(leading.id));
+  const std::vector<bool> acted_on = gap_trials_acted_on(problem, d.trials, effect_spec(leading.id));
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
   ModelVariant alone = nominal;
   apply_effect(leading.id, leading.values, alone);
@@ -306,7 +306,7 @@ void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, co
                                      const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   if (d.combination.empty() || d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
   const EffectFit& leading = d.combination.front();
-  const std::vector<bool> acted_on = gap_trials_acted_on(d.trials, effect_spec(leading.id));
+  const std::vector<bool> acted_on = gap_trials_acted_on(problem, d.trials, effect_spec(leading.id));
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
   const JointFit joint =
       fit_effect_within_tolerances(problem, nominal, options, d.tolerance, leading.id, leading.values);

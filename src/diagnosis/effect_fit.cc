@@ -165,9 +165,11 @@ std::vector<EffectId> requested_effects(const DiagnosisOptions& options) {
   return ids;
 }
 
-std::vector<bool> gap_trials_acted_on(const std::vector<TrialGap>& trials, const EffectSpec& spec) {
+std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vector<TrialGap>& trials,
+                                      const EffectSpec& spec) {
   std::vector<bool> acted_on;
-  for (const TrialGap& t : trials) acted_on.push_back(t.gap && spec.acts_on_kind(t.kind));
+  for (std::size_t t = 0; t < trials.size(); ++t)
+    acted_on.push_back(trials[t].gap && acts_on(spec, problem.trials()[t]));
   return acted_on;
 }
 
@@ -232,7 +234,7 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   const EffectSpec& spec = effect_spec(id);
   EffectFit fit{.id = id, .name = spec.name};
   fit.applicable = std::any_of(problem.trials().begin(), problem.trials().end(),
-                               [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
+                               [&](const PreparedTrial& t) { return acts_on(spec, t); });
   fit.train_error_before = problem.training_error(base.training);
   const EffectObjective objective(problem, id, base, fit.evaluations);
   fit.heldout_error_before = problem.heldout_error(objective.before);

@@ -43,7 +43,8 @@ std::vector<EffectSpec> make_catalogue() {
         {"dead_time_s", 0.0, 0.3, false, 0.0},
         {"vent_ratio", 0.25, 8.0, true, 1.0},
         {"second_order_time_s", 0.0, 0.25, false, 0.0, /*extension=*/true}},
-       {K::kTrajectory}},
+       {K::kTrajectory},
+       /*through_regulators_only=*/true},
       {EffectId::kHysteresis,
        "hysteresis",
        "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading), by a part of its "

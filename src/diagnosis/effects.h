@@ -41,6 +41,9 @@ struct EffectSpec {
   std::string description;
   std::vector<ParameterSpec> parameters;
   std::vector<TrialKind> acts_on;  // the kinds of data it changes
+  // It changes a trajectory's angles only through the regulators' pressures (so not where measured pressures drive
+  // the replay, replay.h PressureSource).
+  bool through_regulators_only = false;
   bool acts_on_kind(TrialKind kind) const;
 };
 

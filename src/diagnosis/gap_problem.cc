@@ -13,7 +13,7 @@ Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only
   Predictions predictions(trials_.size());
   for (std::size_t t = 0; t < trials_.size(); ++t) {
     // A trial the effect does not act on keeps the base model's predictions (filled by the caller).
-    if (only_changed != nullptr && !only_changed->acts_on_kind(trials_[t].trial->kind)) continue;
+    if (only_changed != nullptr && !acts_on(*only_changed, trials_[t])) continue;
     predictions[t] = engine_.predict(trials_[t], variant, training_only);
   }
   return predictions;

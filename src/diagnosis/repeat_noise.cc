@@ -119,26 +119,60 @@ std::vector<std::vector<std::size_t>> repeat_sets(const std::vector<PreparedTria
   return sets;
 }
 
+namespace {
+
+// Puts the noise `s` of a repeated task on trial `p` where larger than its own, with its block means' inflation.
+void raise_to(PreparedTrial& p, const RepeatSpread& s, int degrees_of_freedom, const std::string& source) {
+  const double noise = std::sqrt(s.noise2);
+  if (noise > p.noise) {
+    p.noise_source = fmt::format("{} (the windowed estimate, {:.3g} {}, misses the noise slower than the motion)",
+                                 source, p.noise, p.unit);
+    p.noise = noise;
+  }
+  // A block mean of white noise has noise^2 / n; a sensor's wander leaves far more.
+  p.group_inflation = std::max(1.0, s.block_mean2 * s.block_size / (p.noise * p.noise));
+  // The deviations' independent pieces: a noise that wanders for seconds makes the blocks of one 4 s unit alike.
+  p.noise_dof = std::max(1, degrees_of_freedom);
+}
+
+bool same_sensors(const PreparedTrial& a, const PreparedTrial& b) {
+  return a.pressures == b.pressures && a.trial->conventions.placement == b.trial->conventions.placement &&
+         a.trial->conventions.posture == b.trial->conventions.posture;
+}
+
+}  // namespace
+
 void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<std::size_t>>& sets,
                         const std::vector<std::vector<double>>& residuals) {
+  std::vector<RepeatSpread> spreads;
+  std::vector<bool> repeated(trials.size(), false);
   for (const auto& set : sets) {
-    const RepeatSpread s = spread_of(trials, residuals, set);
+    spreads.push_back(spread_of(trials, residuals, set));
+    const RepeatSpread& s = spreads.back();
+    for (std::size_t t : set) repeated[t] = true;
     if (!(s.noise2 > 0.0)) continue;
     for (std::size_t t : set) {
-      PreparedTrial& p = trials[t];
-      const double noise = std::sqrt(s.noise2);
-      if (noise > p.noise) {
-        p.noise_source = fmt::format(
-            "spread of the nominal residuals across {} repetitions of the task (the "
-            "windowed estimate, {:.3g} {}, misses the noise slower than the motion)",
-            set.size(), p.noise, p.unit);
-        p.noise = noise;
-      }
-      // A block mean of white noise has noise^2 / n; a sensor's wander leaves far more.
-      p.group_inflation = std::max(1.0, s.block_mean2 * s.block_size / (p.noise * p.noise));
-      // The deviations' independent pieces: a noise that wanders for seconds makes the blocks of one 4 s unit alike.
-      p.noise_dof = std::max(1, (static_cast<int>(set.size()) - 1) * std::max(1, s.units));
+      raise_to(trials[t], s, (static_cast<int>(set.size()) - 1) * std::max(1, s.units),
+               fmt::format("spread of the nominal residuals across {} repetitions of the task", set.size()));
     }
+  }
+  // A trajectory without repetitions of its own, read by sensors that were (the same rig, posture and kind of
+  // signal): their wander is the sensors', not the task's, so it takes the least noise its sensors showed in a
+  // repeated task. On the independent device, a closed-loop trial whose commands drifted from its task's repetitions
+  // was otherwise weighed with its windowed 0.038 deg against the repetitions' 0.55 deg, and its 4 deg of model
+  // error read as 116 noise units, outweighing every other trial.
+  for (std::size_t t = 0; t < trials.size(); ++t) {
+    if (repeated[t] || trials[t].trial->kind != TrialKind::kTrajectory) continue;
+    std::size_t quietest = sets.size();
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      if (!(spreads[k].noise2 > 0.0) || !same_sensors(trials[t], trials[sets[k].front()])) continue;
+      if (quietest == sets.size() || spreads[k].noise2 < spreads[quietest].noise2) quietest = k;
+    }
+    if (quietest == sets.size()) continue;
+    const auto& set = sets[quietest];
+    raise_to(trials[t], spreads[quietest], (static_cast<int>(set.size()) - 1) * std::max(1, spreads[quietest].units),
+             fmt::format("spread of the nominal residuals across {} repetitions of {} on the same sensors", set.size(),
+                         trials[set.front()].name));
   }
 }
 

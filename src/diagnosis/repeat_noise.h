@@ -10,7 +10,8 @@
 //
 // Repetitions: trajectory trials of one rig and posture whose logged commands follow each other (their RMS
 // difference is under kRepeatCommandSimilarity of their own spread about their mean), alike in length. A trial
-// without repetitions keeps its windowed estimate and white-noise group test.
+// without repetitions takes the least such noise its sensors (rig, posture, angles or pressures) showed in a repeated
+// task, where larger than its windowed estimate; with none, it keeps that estimate and the white-noise group test.
 
 #include <vector>
 
@@ -28,7 +29,8 @@ std::vector<std::vector<std::size_t>> repeat_sets(const std::vector<PreparedTria
 
 // Raises the noise of each trial in each of `sets` (repeat_sets) to the repeat-to-repeat spread of its nominal
 // residuals (`residuals[t]` aligned with trials[t].points; needed only for the sets' trials) where that is larger,
-// and sets its group variance inflation and degrees of freedom from the spread of the 1 s block means.
+// and sets its group variance inflation and degrees of freedom from the spread of the 1 s block means; a trajectory
+// in no set, from the quietest set read by the same sensors.
 void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<std::vector<std::size_t>>& sets,
                         const std::vector<std::vector<double>>& residuals);
 

@@ -1,18 +1,23 @@
 #include "diagnosis/replay.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numeric>
 #include <optional>
+#include <random>
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "diagnosis/repeat_noise.h"
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
+#include "physics/pressure_regulator.h"
 #include "physics/units.h"
 #include "sim/model.h"
 #include "sim/model_builder.h"
@@ -314,18 +319,162 @@ class StepCommands {
   bool mixed_ = false;    // the last step's command was a mean
 };
 
+// What a trajectory's replay depends on besides the model: the trial and the conventions that change how it is run
+// (the start, the gravity).
+std::string trial_key(const Trial& trial) {
+  return fmt::format("{}|{}|{}|{}", trial.name, trial.file, trial.conventions.angles_zeroed_at_start,
+                     static_cast<int>(trial.conventions.posture));
+}
+
 std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon) {
-  return fmt::format("{}|{}|{}|{}|{}", trial.name, trial.file, sim::device_to_json(variant.device_for(trial)),
+  return fmt::format("{}|{}|{}|{}", trial_key(trial), sim::device_to_json(variant.device_for(trial)),
                      variant.regulator_dead_time, horizon);
 }
 
+// Tells one set of drive readings from another in a cache key.
+std::uint64_t fingerprint(const std::vector<control::Pressures>& readings) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the readings' bits
+  for (const auto& r : readings) {
+    for (double v : r) {
+      h ^= std::bit_cast<std::uint64_t>(v);
+      h *= 1099511628211ull;
+    }
+  }
+  return h;
+}
+
+// The key of angles replayed from measured pressures: the regulators' response and dead time do not reach them, the
+// monitors' calibration does (it turns a reading into a pressure), so a fit of the regulator reuses one replay.
+std::string measured_drive_key(const Trial& trial, const ModelVariant& variant, double horizon,
+                               const std::vector<control::Pressures>& drive) {
+  sim::DeviceDescription device = variant.device_for(trial);
+  const double max_pressure = device.regulator.max_pressure;
+  device.regulator = sim::Regulator{.max_pressure = max_pressure};
+  return fmt::format("measured|{}|{}|{}|{}|{}|{}", trial_key(trial), sim::device_to_json(device),
+                     fmt::join(variant.monitor_gain, ","), fmt::join(variant.monitor_offset, ","), horizon,
+                     fingerprint(drive));
+}
+
+// [s] the Gaussian kernel's standard deviation that smooths the measured readings' difference from the nominal's
+// (drive_readings): its response is 0.17 at 3 Hz, the paper device's wrist resonance, and 0.93 at 0.6 Hz; the
+// independent device's slowest second-order regulator rings at 0.6 Hz.
+constexpr double kDriveSmoothing = 0.1;
+
+// `values` (one per row) smoothed by a Gaussian kernel of kDriveSmoothing in time (rows need not be evenly spaced),
+// cut at 3 sigma.
+std::vector<control::Pressures> smoothed(const std::vector<TrajectorySample>& samples,
+                                         const std::vector<control::Pressures>& values) {
+  const std::size_t n = samples.size();
+  std::vector<control::Pressures> out(n);
+  std::size_t from = 0, to = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (samples[from].t < samples[i].t - 3.0 * kDriveSmoothing) ++from;
+    while (to < n && samples[to].t <= samples[i].t + 3.0 * kDriveSmoothing) ++to;
+    control::Pressures sum{};
+    double weights = 0.0;
+    for (std::size_t j = from; j < to; ++j) {
+      const double weight = std::exp(-0.5 * std::pow((samples[j].t - samples[i].t) / kDriveSmoothing, 2));
+      for (std::size_t m = 0; m < 4; ++m) sum[m] += weight * values[j][m];
+      weights += weight;
+    }
+    for (std::size_t m = 0; m < 4; ++m) out[i][m] = sum[m] / weights;
+  }
+  return out;
+}
+
+// A trajectory's measured pressures as the muscles had them: the readings that drive them turned back into pressures
+// through the variant's calibration (a reading is gain x pressure + offset), linear between rows, held before the
+// first and after the last, within the regulators' range. Asked at increasing times.
+class MeasuredPressures {
+ public:
+  MeasuredPressures(const std::vector<TrajectorySample>& samples, const std::vector<control::Pressures>& readings,
+                    const ModelVariant& variant, double max_kpa)
+      : samples_(samples), readings_(readings), variant_(variant), max_kpa_(max_kpa) {}
+  control::Pressures at(double t) {
+    while (next_ < samples_.size() && samples_[next_].t <= t) ++next_;
+    const std::size_t above = std::min(next_, samples_.size() - 1), below = next_ == 0 ? 0 : next_ - 1;
+    const double span = samples_[above].t - samples_[below].t;
+    const double w = above == below || span <= 0.0 ? 0.0 : std::clamp((t - samples_[below].t) / span, 0.0, 1.0);
+    control::Pressures out{};
+    for (std::size_t m = 0; m < 4; ++m) {
+      const double reading = (1.0 - w) * readings_[below][m] + w * readings_[above][m];
+      const double kpa = (reading - pa_to_kpa(variant_.monitor_offset[m])) / variant_.monitor_gain[m];
+      out[m] = std::clamp(kpa, 0.0, max_kpa_);
+    }
+    return out;
+  }
+
+ private:
+  const std::vector<TrajectorySample>& samples_;
+  const std::vector<control::Pressures>& readings_;
+  const ModelVariant& variant_;
+  double max_kpa_;
+  std::size_t next_ = 0;  // the first row after the last time asked
+};
+
 }  // namespace
+
+bool acts_on(const EffectSpec& effect, const PreparedTrial& trial) {
+  if (!effect.acts_on_kind(trial.trial->kind)) return false;
+  return !(trial.angles_from_measured_pressures && effect.through_regulators_only);
+}
 
 std::vector<double> residuals_of(const PreparedTrial& trial, const std::vector<double>& predicted) {
   std::vector<double> residuals(predicted.size());
   for (std::size_t i = 0; i < predicted.size(); ++i) residuals[i] = trial.points[i].measured - predicted[i];
   return residuals;
 }
+
+namespace {
+
+// The noise the measured pressures carry into angles replayed from them, added to the angle trial's own: the
+// pressures' noise (`pressure_noise` [kPa] per reading, white) smoothed as the drive is, propagated through one
+// replay of the nominal, and its difference from the nominal's angles taken as a second noise of the trial, with its
+// 1 s block means (it is slow: the wrist low-passes it) in the group test's variance. Without it a correct model
+// was called wrong: on the paper's device 0.31 kPa of pressure noise moved the replayed angles 0.12 deg RMS beside
+// the IMU's 0.25 deg (p = 2e-8 for the nominal), the wrist being soft enough that a tenth of a kPa turns it a
+// degree's fraction.
+void add_drive_noise(PreparedTrial& p, double pressure_noise, ReplayEngine& engine, const ModelVariant& nominal) {
+  const auto& samples = p.trial->trajectory;
+  std::mt19937_64 rng(20261126);  // one fixed realisation: the same data give the same noise
+  std::normal_distribution<double> normal(0.0, pressure_noise);
+  std::vector<control::Pressures> noise(samples.size());
+  for (auto& row : noise) {
+    for (double& v : row) v = normal(rng);
+  }
+  const std::vector<control::Pressures> smooth = smoothed(samples, noise);
+  PreparedTrial perturbed = p;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    for (std::size_t m = 0; m < 4; ++m) perturbed.drive_readings[i][m] += smooth[i][m];
+  }
+  const std::vector<double> base = engine.predict(p, nominal, false), moved = engine.predict(perturbed, nominal, false);
+  double ss = 0.0;
+  std::map<int, std::pair<double, int>> blocks;
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    const double d = moved[i] - base[i];
+    ss += d * d;
+    auto& b = blocks[p.points[i].group];
+    b.first += d;
+    ++b.second;
+  }
+  const double drive2 = ss / static_cast<double>(base.size());
+  if (!(drive2 > 0.0) || blocks.empty()) return;
+  double block_mean2 = 0.0, per_block = 0.0;
+  for (const auto& [group, b] : blocks) {
+    block_mean2 += std::pow(b.first / b.second, 2) / static_cast<double>(blocks.size());
+    per_block += static_cast<double>(b.second) / static_cast<double>(blocks.size());
+  }
+  const double own2 = p.noise * p.noise, total2 = own2 + drive2;
+  // A block mean's variance: the own noise's (inflated as it was) plus the drive's.
+  p.group_inflation = std::max(1.0, (own2 * p.group_inflation / per_block + block_mean2) * per_block / total2);
+  p.noise_source = fmt::format(
+      "{}, and {:.3g} {} that the measured pressures' {:.3g} kPa of noise carries into the "
+      "angles replayed from them",
+      p.noise_source, std::sqrt(drive2), p.unit, pressure_noise);
+  p.noise = std::sqrt(total2);
+}
+
+}  // namespace
 
 std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, const ModelVariant& nominal) {
   std::vector<PreparedTrial> prepared;
@@ -343,15 +492,21 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
         break;
       case TrialKind::kTrajectory:
         p = prepare_trajectory(trial, false);
+        p.angles_from_measured_pressures = engine.angles_from_measured_pressures(trial);
+        if (p.angles_from_measured_pressures) p.drive_readings = engine.drive_readings(trial, nominal);
         break;
     }
     if (trial.kind != TrialKind::kTrajectory) {
       estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
     }
     apply_resolution_floor(p);
-    prepared.push_back(std::move(p));
     if (trial.kind == TrialKind::kTrajectory && trial.trajectory.front().measured_kpa) {
-      prepared.push_back(prepare_trajectory(trial, true));
+      PreparedTrial pressures = prepare_trajectory(trial, true);
+      if (p.angles_from_measured_pressures) add_drive_noise(p, pressures.noise, engine, nominal);
+      prepared.push_back(std::move(p));
+      prepared.push_back(std::move(pressures));
+    } else {
+      prepared.push_back(std::move(p));
     }
   }
   // Repeated trajectories: their noise from the spread across repetitions (the nominal replays are cached for the
@@ -412,21 +567,41 @@ sim::Model ReplayEngine::load_model(const sim::DeviceDescription& device, const 
   return sim::Model::FromXml(sim::build_model_xml(device, options), plugins_, trial.name);
 }
 
+bool ReplayEngine::angles_from_measured_pressures(const Trial& trial) const {
+  return pressure_source_ == PressureSource::kMeasuredWhereLogged && trial.kind == TrialKind::kTrajectory &&
+         !trial.trajectory.empty() && trial.trajectory.front().measured_kpa.has_value();
+}
+
 ReplayStats ReplayEngine::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;
 }
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
-                                                                      double horizon) {
-  return cached(cache_key(trial, variant, horizon), [&] {
+                                                                      double horizon,
+                                                                      const std::vector<control::Pressures>* drive) {
+  const bool measured = drive != nullptr;
+  if (measured && drive->size() != trial.trajectory.size()) {
+    throw std::logic_error(
+        fmt::format("{}: {} drive readings for {} rows", trial.name, drive->size(), trial.trajectory.size()));
+  }
+  const std::string key =
+      measured ? measured_drive_key(trial, variant, horizon, *drive) : cache_key(trial, variant, horizon);
+  return cached(key, [&] {
     const auto started = std::chrono::steady_clock::now();
-    const sim::Model model = load_model(variant.device_for(trial), trial, steps_.trajectory);
+    const sim::DeviceDescription& device = variant.device_for(trial);
+    const sim::Model model = load_model(device, trial, steps_.trajectory);
     sim::WristSim wrist(model);
     wrist.reset();
     const auto& samples = trial.trajectory;
+    const std::vector<control::Pressures> none;
+    MeasuredPressures pressures(samples, measured ? *drive : none, variant, pa_to_kpa(device.regulator.max_pressure));
     if (trial.conventions.angles_zeroed_at_start) {
-      wrist.command_pressures_kpa(samples.front().command_kpa);
+      if (measured) {
+        wrist.set_regulated_pressures_kpa(pressures.at(samples.front().t));
+      } else {
+        wrist.command_pressures_kpa(samples.front().command_kpa);
+      }
       wrist.run(kPreSettle);
     }
     const double start = wrist.time();  // the log's t = 0
@@ -441,7 +616,12 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
         trial.conventions.angles_zeroed_at_start ? samples.front().command_kpa : control::Pressures{});
     for (std::size_t k = 0; k < steps; ++k) {
       const double t = wrist.time() - start;
-      if (const auto command = commands.over(t, t + result->dt)) wrist.command_pressures_kpa(*command);
+      if (measured) {
+        // A step's force is the pressure at its start (MuJoCo's Euler step): the measured pressure there.
+        wrist.set_regulated_pressures_kpa(pressures.at(t));
+      } else if (const auto command = commands.over(t, t + result->dt)) {
+        wrist.command_pressures_kpa(*command);
+      }
       result->fe.push_back(wrist.angle(physics::WristAxis::kFlexionExtension));
       result->ur.push_back(wrist.angle(physics::WristAxis::kUlnarRadial));
       for (std::size_t m = 0; m < 4; ++m) {
@@ -458,6 +638,70 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
     stats_.trajectory_sim_s += horizon;
     return std::shared_ptr<const Simulated>(std::move(result));
   });
+}
+
+// The plugin's regulator (plugins/fpam: FpamActuator::PressureRate, SecondOrderStep) as MuJoCo 2.2.2 advances it:
+// an Euler step of the activation with the rate at the step's start, the command clamped to the regulator's range;
+// the second order's rates make that step exact (physics::regulator_step). replay_test checks it against the MuJoCo
+// replay's pressures.
+ReplayEngine::Simulated ReplayEngine::replay_regulators(const Trial& trial, const ModelVariant& variant,
+                                                        double horizon) const {
+  const sim::DeviceDescription& device = variant.device_for(trial);
+  const physics::RegulatorResponse response = device.regulator.response();
+  const double max_kpa = pa_to_kpa(device.regulator.max_pressure), dt = steps_.trajectory;
+  std::array<physics::RegulatedPressure, 4> state{};
+  const auto step = [&](const control::Pressures& command) {
+    for (std::size_t m = 0; m < 4; ++m) {
+      const double u = std::clamp(command[m], 0.0, max_kpa);
+      if (response.second_order()) {
+        state[m] = physics::regulator_step(response, state[m], u, dt);
+      } else {
+        state[m].pressure += dt * physics::pressure_rate(response, u, state[m].pressure);
+      }
+    }
+  };
+  const auto& samples = trial.trajectory;
+  const bool zeroed = trial.conventions.angles_zeroed_at_start;
+  if (zeroed) {
+    // As the wrist's pre-settling: whole steps until kPreSettle (WristSim::run's rounding).
+    for (double t = 0.0; t < kPreSettle - 0.5 * dt; t += dt) step(samples.front().command_kpa);
+  }
+  Simulated result;
+  result.dt = dt;
+  const auto steps = static_cast<std::size_t>(std::ceil(horizon / dt)) + 1;
+  StepCommands commands(samples, variant.regulator_dead_time,
+                        zeroed ? samples.front().command_kpa : control::Pressures{});
+  control::Pressures command = zeroed ? samples.front().command_kpa : control::Pressures{};
+  for (std::size_t k = 0; k < steps; ++k) {
+    const double t = static_cast<double>(k) * dt;
+    if (const auto changed = commands.over(t, t + dt)) command = *changed;
+    for (std::size_t m = 0; m < 4; ++m) result.pressure_kpa[m].push_back(state[m].pressure);
+    step(command);
+  }
+  return result;
+}
+
+std::vector<control::Pressures> ReplayEngine::drive_readings(const Trial& trial, const ModelVariant& nominal) const {
+  const auto& samples = trial.trajectory;
+  const Simulated model = replay_regulators(trial, nominal, samples.back().t);
+  const std::size_t n = samples.size();
+  std::vector<control::Pressures> model_reading(n), difference(n), out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double k = std::clamp(samples[i].t / model.dt, 0.0, static_cast<double>(model.pressure_kpa[0].size() - 1));
+    const auto below = static_cast<std::size_t>(k);
+    const std::size_t above = std::min(model.pressure_kpa[0].size() - 1, below + 1);
+    const double w = k - static_cast<double>(below);
+    for (std::size_t m = 0; m < 4; ++m) {
+      const double kpa = (1.0 - w) * model.pressure_kpa[m][below] + w * model.pressure_kpa[m][above];
+      model_reading[i][m] = nominal.monitor_gain[m] * kpa + pa_to_kpa(nominal.monitor_offset[m]);
+      difference[i][m] = (*samples[i].measured_kpa)[m] - model_reading[i][m];
+    }
+  }
+  const std::vector<control::Pressures> smooth = smoothed(samples, difference);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t m = 0; m < 4; ++m) out[i][m] = model_reading[i][m] + smooth[i][m];
+  }
+  return out;
 }
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
@@ -605,7 +849,11 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
                                                      bool training_only) {
   const Trial& trial = *prepared.trial;
   const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
-  const auto simulated = simulate(trial, variant, horizon);
+  // Measured pressures compared with the regulators alone where measured pressures drive the angles' replay.
+  const auto simulated = prepared.pressures && angles_from_measured_pressures(trial)
+                             ? std::make_shared<const Simulated>(replay_regulators(trial, variant, horizon))
+                             : simulate(trial, variant, horizon,
+                                        prepared.angles_from_measured_pressures ? &prepared.drive_readings : nullptr);
   const double imu_period = sim::ImuModel{}.period_s;
   const std::size_t n = trial.trajectory.size();
   // `series` at time `t`, linear between the steps (a row's time is not always on the step's grid).
@@ -621,7 +869,7 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
     return at(series, std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period));
   };
   // Zeroed angles read 0 at the first row: the replay's own angles then are subtracted.
-  const bool zeroed = trial.conventions.angles_zeroed_at_start;
+  const bool zeroed = trial.conventions.angles_zeroed_at_start && !prepared.pressures;
   const double t0 = trial.trajectory.front().t;
   const double zero_fe = zeroed ? imu_reading(simulated->fe, t0) : 0.0;
   const double zero_ur = zeroed ? imu_reading(simulated->ur, t0) : 0.0;

@@ -10,10 +10,11 @@
 //  - range of motion: the MuJoCo model, each muscle alone from the neutral wrist, settled for 6 s (as the
 //    range-of-motion experiment). The analytic statics (sim::settled_angle) leave out the 3D tendon paths and
 //    differ from the simulation by up to a degree, more than the motion capture's noise.
-//  - trajectories are dynamic: the MuJoCo model with the fPAM plugin, generated from the variant's device, runs the
-//    logged commands open loop (delayed by the regulator's dead time) from the neutral wrist at rest; the IMU pair
-//    is sampled every 10 ms, late by the variant's latency and offset by its bias. Measured pressures, where the log
-//    has them, are compared with the simulated regulators' pressures at the row's time.
+//  - trajectories are dynamic: the MuJoCo model with the fPAM plugin, generated from the variant's device, from the
+//    neutral wrist at rest; the IMU pair is sampled every 10 ms, late by the variant's latency and offset by its
+//    bias. Where the log has the regulators' measured pressures, the muscles are driven by them (PressureSource) and
+//    the regulators alone replay the logged commands (delayed by the dead time), compared with the measured
+//    pressures; otherwise the commands drive the simulated regulators and the muscles open loop.
 //
 // Prepared once per data set: each measurement's repeat group (same condition), its split unit (the training /
 // held-out split and the bootstrap resample whole units), where it lies (angle, pressure, muscle, motion), and each
@@ -56,6 +57,11 @@ struct PreparedTrial {
   // A trajectory with measured pressures is prepared twice: its angles, and (with this set) its pressures, each with
   // its own unit and noise. The pressures tell a regulator's lag from an IMU's latency, which delay the angles alike.
   bool pressures = false;
+  // A trajectory's angles replayed from its measured pressures (PressureSource::kMeasuredWhereLogged): the
+  // regulators' response does not reach them. The readings that drive them, one per row (ReplayEngine::
+  // drive_readings).
+  bool angles_from_measured_pressures = false;
+  std::vector<control::Pressures> drive_readings;
   std::vector<Point> points;
   std::string unit;    // of measured and residuals
   double noise = 0.0;  // repeat-to-repeat standard deviation of one measurement, in `unit`
@@ -66,6 +72,10 @@ struct PreparedTrial {
   std::string noise_source;     // how it was estimated
   double training_end_s = 0.0;  // trajectories: the training part ends here
 };
+
+// Whether `effect` changes `trial`'s replay: a kind it acts on, and not the angles of a trajectory replayed from its
+// measured pressures where the effect acts only through the regulators.
+bool acts_on(const EffectSpec& effect, const PreparedTrial& trial);
 
 // Measured minus predicted, for each point of `trial`.
 std::vector<double> residuals_of(const PreparedTrial& trial, const std::vector<double>& predicted);
@@ -91,6 +101,20 @@ struct ReplaySteps {
   double settle = 0.002;      // [s]
 };
 
+// What drives the muscles in a trajectory's replay.
+//  - kMeasuredWhereLogged (default): where the log has the regulators' measured pressures (the bridge logs them), the
+//    muscles are driven by those (smoothed, drive_readings; through the variant's monitor calibration, linear
+//    between rows), and the logged
+//    commands drive the regulators alone, whose pressures are compared with the measured ones. A model error of the
+//    regulator then stays in the pressures, where it is measured, instead of travelling on into the angles, where it
+//    looked like a muscle's or the wrist's error: a measured signal between two parts of a chain lets each part be
+//    judged on its own input and output (a cascade identified piecewise, as system identification does where an
+//    intermediate signal is measured; Ljung, System Identification, 2nd ed., 1999). The measured pressures' noise
+//    reaches the angles only through the wrist's low-pass response.
+//  - kCommands: the commands through the simulated regulators into the muscles (the only choice without measured
+//    pressures), as before this option existed.
+enum class PressureSource { kMeasuredWhereLogged, kCommands };
+
 // What the simulated replays cost (cached ones not counted): where a diagnosis's time goes.
 struct ReplayStats {
   long trajectories = 0;
@@ -105,13 +129,24 @@ struct ReplayStats {
 // latency changes only what is read from a simulation, so it reuses one). Thread-safe.
 class ReplayEngine {
  public:
-  explicit ReplayEngine(sim::PluginSet plugins, ReplaySteps steps = {}) : plugins_(std::move(plugins)), steps_(steps) {}
+  explicit ReplayEngine(sim::PluginSet plugins, ReplaySteps steps = {},
+                        PressureSource pressure_source = PressureSource::kMeasuredWhereLogged)
+      : plugins_(std::move(plugins)), steps_(steps), pressure_source_(pressure_source) {}
   // The model's value for each point of `trial` (same order); with `training_only`, held-out points of trajectories
   // are left NaN and the simulation stops at the end of the training part.
   std::vector<double> predict(const PreparedTrial& trial, const ModelVariant& variant, bool training_only);
   // Throws std::runtime_error naming why the model cannot replay the trial (a pressure beyond its regulators).
   void check_replayable(const Trial& trial, const ModelVariant& variant) const;
   ReplayStats stats() const;
+  // Whether this engine replays `trial`'s angles from its measured pressures.
+  bool angles_from_measured_pressures(const Trial& trial) const;
+  // The measured pressures' readings [kPa] that drive `trial`'s angles, one per row: `nominal`'s regulators'
+  // readings replaying the commands, plus the measured readings' difference from them smoothed over
+  // kDriveSmoothing. Raw readings carry the sensor's white noise into the muscles, and through the wrist's
+  // resonance into the angles (0.31 kPa of it gave 0.29 deg RMS on the paper's device, more than the IMU's noise);
+  // the smoothed difference keeps what the regulators do that the nominal's do not (a lag, a slow vent, an
+  // overshoot: slower than the smoothing), and the nominal's regulators give the fast part of a command's step.
+  std::vector<control::Pressures> drive_readings(const Trial& trial, const ModelVariant& nominal) const;
 
  private:
   struct Simulated {
@@ -128,13 +163,19 @@ class ReplayEngine {
   std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device);
   std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
                                          bool training_only);
-  // A trajectory's logged commands replayed up to `horizon` [s].
-  std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon);
+  // A trajectory's logged commands, or its measured pressures, replayed up to `horizon` [s].
+  // `drive`: the readings that drive the muscles (drive_readings), or null for the commands.
+  std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon,
+                                            const std::vector<control::Pressures>* drive);
+  // The regulators alone replaying the logged commands up to `horizon` [s], step by step as the plugin integrates
+  // them in MuJoCo (pressure_kpa only).
+  Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon) const;
   // The settled angle [deg, own direction] of each (muscle, pressure [Pa]) alone, in `fe`.
   std::shared_ptr<const Simulated> settle(const Trial& trial, const sim::DeviceDescription& device,
                                           const std::vector<std::pair<int, double>>& conditions);
   sim::PluginSet plugins_;
   ReplaySteps steps_;
+  PressureSource pressure_source_;
   mutable std::mutex mutex_;  // guards cache_ and stats_
   ReplayStats stats_;
   std::map<std::string, std::shared_ptr<const Simulated>> cache_;

@@ -183,7 +183,7 @@ void add_catalogue_knobs(const GapProblem& problem, const ModelVariant& nominal,
   });
   for (const EffectSpec& spec : effect_catalogue()) {
     const bool acts = std::any_of(problem.trials().begin(), problem.trials().end(),
-                                  [&](const PreparedTrial& t) { return spec.acts_on_kind(t.trial->kind); });
+                                  [&](const PreparedTrial& t) { return acts_on(spec, t); });
     if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig)) continue;
     const auto box = tolerance_box(spec.id, nominal.device, tolerances);
     if (!box) continue;

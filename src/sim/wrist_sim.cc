@@ -178,13 +178,16 @@ void WristSim::run_held(double duration, double fe, double ur) {
   forward();
 }
 
-void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa) {
-  hold(fe, ur);
+void WristSim::set_regulated_pressures_kpa(const std::array<double, 4>& pressures_kpa) {
   for (int i = 0; i < 4; ++i) data_->ctrl[i] = data_->act[i] = pressures_kpa[static_cast<std::size_t>(i)];
-  // The pressures held: a second-order regulator's at rest.
   for (const int rate : pressure_rate_actuator_) {
     if (rate >= 0) data_->act[rate] = 0.0;
   }
+}
+
+void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa) {
+  hold(fe, ur);
+  set_regulated_pressures_kpa(pressures_kpa);
   apply_limit_stiffening();
   forward();
 }

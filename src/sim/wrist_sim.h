@@ -23,6 +23,9 @@ class WristSim {
   void reset();
   // Commanded pressures [kPa] of flexor, extensor, ulnar, radial (the regulators follow with their lag).
   void command_pressures_kpa(const std::array<double, 4>& pressures_kpa);
+  // Puts the regulated pressures [kPa] at these, commanded alike and a second-order regulator at rest, so that they
+  // hold until changed: a replay driven by measured pressures.
+  void set_regulated_pressures_kpa(const std::array<double, 4>& pressures_kpa);
   // Advances `duration` [s] of free motion. Throws std::runtime_error when MuJoCo finds the state unstable (it would
   // reset it and go on).
   void run(double duration);

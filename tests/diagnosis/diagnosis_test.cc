@@ -125,21 +125,31 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
       row.max_contraction += 0.02;
     }
     real.device.fpam = physics::FpamParameters::Table(rows, device.fpam.fabric());
-    const auto d = run(real, device, {EffectId::kFpamParams});
-    const auto& f = fit_of(d, EffectId::kFpamParams);
-    EXPECT_NEAR(param(f, "r0_scale"), 0.9, 0.015);
-    EXPECT_NEAR(param(f, "eps_max_shift"), 0.02, 0.003);
+    write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
     // The fabric's stiffness and curvature trade off against each other and against r0 where the tensile rig's noise
     // allows (fitted x 0.55 and 7.8 for the true x 1 and 0; twice the budget ends the same); what the data fix is the
-    // force law: within 2 % of the true pull, or two load-cell noises (1 N) where that is more.
-    ModelVariant fitted{.device = device};
-    apply_effect(EffectId::kFpamParams, f.values, fitted);
-    for (const double kpa : {0.0, 34.0, 68.0, 103.0, 137.0}) {
-      const double pressure = units::kpa_to_pa(kpa);
-      for (double eps = 0.0; eps < 0.3; eps += 0.02) {
-        const double truth = physics::fpam_force(real.device.fpam, pressure, eps);
-        EXPECT_NEAR(physics::fpam_force(fitted.device.fpam, pressure, eps), truth, std::max(1.0, 0.02 * truth))
-            << kpa << " kPa, eps " << eps;
+    // force law: within 2 % of the true pull, or two load-cell noises (1 N) where that is more, with the trajectory
+    // replayed from its commands. Replayed from its measured pressures (the default), whose noise reaches the angles
+    // (replay.h), the fit moves along that valley: the 0 kPa pull came out 1.28 N off and the 137 kPa one 1.68 N (2.5
+    // %), so three load-cell noises or 2.5 % there.
+    for (const PressureSource source : {PressureSource::kCommands, PressureSource::kMeasuredWhereLogged}) {
+      ReplayEngine engine(sim::PluginSet::Default(), {}, source);
+      const auto d = diagnose(load_real_data(dir_ / "real"), device, engine,
+                              {.effects = {EffectId::kFpamParams}, .bootstrap = 100});
+      const auto& f = fit_of(d, EffectId::kFpamParams);
+      EXPECT_NEAR(param(f, "r0_scale"), 0.9, 0.015);
+      EXPECT_NEAR(param(f, "eps_max_shift"), 0.02, 0.003);
+      const bool commands = source == PressureSource::kCommands;
+      ModelVariant fitted{.device = device};
+      apply_effect(EffectId::kFpamParams, f.values, fitted);
+      for (const double kpa : {0.0, 34.0, 68.0, 103.0, 137.0}) {
+        const double pressure = units::kpa_to_pa(kpa);
+        for (double eps = 0.0; eps < 0.3; eps += 0.02) {
+          const double truth = physics::fpam_force(real.device.fpam, pressure, eps);
+          EXPECT_NEAR(physics::fpam_force(fitted.device.fpam, pressure, eps), truth,
+                      commands ? std::max(1.0, 0.02 * truth) : std::max(1.5, 0.025 * truth))
+              << kpa << " kPa, eps " << eps << (commands ? ", from the commands" : ", from the measured pressures");
+        }
       }
     }
   }

@@ -105,7 +105,18 @@ TEST(RepeatNoise, TheSpreadAcrossRepetitionsIsTheWholeNoise) {
     EXPECT_NEAR(set.prepared[t].noise, whole, 0.3 * whole) << t;
     EXPECT_GT(set.prepared[t].group_inflation, 10.0) << t;  // a 1 s mean keeps nearly all of a wandering noise
   }
-  EXPECT_EQ(set.prepared[4].noise, 0.04);  // the other task keeps its own estimate
+  // The other task has no repetitions of its own, but its sensors wander alike: it takes their noise.
+  EXPECT_EQ(set.prepared[4].noise, set.prepared[0].noise);
+  EXPECT_GT(set.prepared[4].group_inflation, 10.0);
+}
+
+TEST(RepeatNoise, ATrialOnOtherSensorsKeepsItsOwnEstimate) {
+  std::mt19937_64 rng(5);
+  Repetitions set = repetitions(rng, 4, 0.5);
+  set.trials[4].conventions.posture = Posture::kHandSupported;  // another rig set-up: not the same sensors' wander
+  apply_repeat_noise(set.prepared, repeat_sets(set.prepared), set.residuals);
+  EXPECT_GT(set.prepared[0].noise, 0.2);
+  EXPECT_EQ(set.prepared[4].noise, 0.04);
   EXPECT_EQ(set.prepared[4].group_inflation, 1.0);
 }
 

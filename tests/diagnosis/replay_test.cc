@@ -1,6 +1,8 @@
 // Replaying a trajectory's logged commands (diagnosis/replay.h): a regulator dead time reaches the regulators within
 // a simulation step, and the replay is continuous in it; on the step's grid it is the row in force, as a simulation
-// that switches the command at the step does.
+// that switches the command at the step does. Where measured pressures drive the muscles (PressureSource), the
+// regulators replayed alone give MuJoCo's pressures, and the angles are those of the commands' replay when the
+// measured pressures are the model's own.
 
 #include "diagnosis/replay.h"
 
@@ -9,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "diagnosis/effects.h"
 #include "sim/device.h"
 #include "sim/model_builder.h"
 #include "sim/wrist_sim.h"
@@ -49,7 +52,7 @@ class ReplayDeadTime : public ::testing::Test {
 
   Trial trial_;
   RealData data_;
-  ReplayEngine engine_{sim::PluginSet::Default()};
+  ReplayEngine engine_{sim::PluginSet::Default(), {}, PressureSource::kCommands};
   std::vector<PreparedTrial> prepared_;
 };
 
@@ -109,6 +112,99 @@ TEST_F(ReplayDeadTime, ReplaysAreCountedAndCachedOnesAreNot) {
   EXPECT_NEAR(after.trajectory_sim_s - before.trajectory_sim_s, 2 * trial_.trajectory.back().t, 1e-9);
   EXPECT_GT(after.trajectory_s, before.trajectory_s);
   EXPECT_EQ(after.settles, 0);  // no range of motion here
+}
+
+// A paper device whose regulator vents slower than it fills, or responds in second order.
+ModelVariant regulator_variant(bool second_order, double dead_time) {
+  ModelVariant variant{.device = sim::paper_device(), .regulator_dead_time = dead_time};
+  variant.device.regulator.vent_time_constant = 0.25;
+  if (second_order) variant.device.regulator.second_order_time = 0.06;
+  return variant;
+}
+
+TEST_F(ReplayDeadTime, TheRegulatorsAloneGiveTheSimulationsPressures) {
+  // Rows on and off the step's grid (4 ms, 10.5 ms of dead time), filling and venting, first and second order, from
+  // rest or (angles zeroed at the start) settled under the first command: the regulators replayed without MuJoCo
+  // integrate as the plugin does in it.
+  for (const bool zeroed : {false, true}) {
+    RealData data = data_;
+    data.trials[0].conventions.angles_zeroed_at_start = zeroed;
+    if (zeroed) {
+      for (auto& s : data.trials[0].trajectory) s.command_kpa[1] = s.t < kStep ? 40.0 : 0.0;  // the extensor vents
+    }
+    const ModelVariant nominal{.device = sim::paper_device()};
+    ReplayEngine measured(sim::PluginSet::Default());
+    const std::vector<PreparedTrial> alone_trials = prepare(data, measured, nominal);
+    const std::vector<PreparedTrial> simulated_trials = prepare(data, engine_, nominal);
+    ASSERT_TRUE(alone_trials.at(0).angles_from_measured_pressures);
+    ASSERT_TRUE(alone_trials.at(1).pressures);
+    const long angle_replays = measured.stats().trajectories;  // preparing the angles' noise replays them
+    for (const bool second_order : {false, true}) {
+      for (const double dead_time : {0.004, 0.0105}) {
+        const ModelVariant variant = regulator_variant(second_order, dead_time);
+        const std::vector<double> alone = measured.predict(alone_trials.at(1), variant, false);
+        const std::vector<double> simulated = engine_.predict(simulated_trials.at(1), variant, false);
+        ASSERT_EQ(alone.size(), simulated.size());
+        double largest = 0.0;
+        for (double p : simulated) largest = std::max(largest, p);
+        EXPECT_GT(largest, 50.0);
+        for (std::size_t i = 0; i < alone.size(); ++i) {
+          EXPECT_NEAR(alone[i], simulated[i], 1e-9) << "zeroed " << zeroed << ", second order " << second_order
+                                                    << ", dead time " << dead_time << ", point " << i;
+        }
+      }
+    }
+    EXPECT_EQ(measured.stats().trajectories, angle_replays);  // no MuJoCo replay for the pressures
+  }
+}
+
+TEST_F(ReplayDeadTime, MeasuredPressuresThatAreTheModelsOwnGiveTheCommandsAngles) {
+  // The model's own regulated pressures logged every step (1 ms): driven by them, the muscles see what the
+  // commands' replay gave them, so the angles agree; a regulator effect then moves neither the angles nor the
+  // replay count (a fit of it reuses the angles' replay), while the mount's stiffness moves the angles.
+  Trial trial = trial_;
+  trial.name = trial.file = "fine";
+  trial.trajectory.clear();
+  for (int i = 0; i * 0.001 <= kEnd + 1e-9; ++i) {
+    TrajectorySample s{.t = i * 0.001};
+    if (s.t >= kStep) s.command_kpa[0] = 100.0;
+    if (s.t >= kStep + 0.15) s.command_kpa[2] = 60.0;
+    s.measured_kpa = control::Pressures{};
+    trial.trajectory.push_back(s);
+  }
+  RealData data;
+  data.trials.push_back(trial);
+  const ModelVariant nominal{.device = sim::paper_device()};
+  const std::vector<PreparedTrial> from_commands = prepare(data, engine_, nominal);
+  const std::vector<double> pressures = engine_.predict(from_commands.at(1), nominal, false);
+  const std::size_t n = trial.trajectory.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t m = 0; m < 4; ++m) (*data.trials[0].trajectory[i].measured_kpa)[m] = pressures[m * n + i];
+  }
+  const std::vector<double> commanded = engine_.predict(from_commands.at(0), nominal, false);
+  ReplayEngine measured(sim::PluginSet::Default());
+  const std::vector<PreparedTrial> from_measured = prepare(data, measured, nominal);
+  const std::vector<double> driven = measured.predict(from_measured.at(0), nominal, false);
+  ASSERT_EQ(driven.size(), commanded.size());
+  double moved = 0.0;
+  for (std::size_t i = 0; i < driven.size(); ++i) {
+    EXPECT_NEAR(driven[i], commanded[i], 1e-9) << "point " << i;
+    moved = std::max(moved, std::abs(commanded[i]));
+  }
+  EXPECT_GT(moved, 5.0);  // [deg] the flexor and the ulnar muscle moved the wrist
+
+  const EffectSpec& regulator = effect_spec(EffectId::kRegulatorLag);
+  EXPECT_FALSE(acts_on(regulator, from_measured.at(0)));
+  EXPECT_TRUE(acts_on(regulator, from_measured.at(1)));
+  EXPECT_TRUE(acts_on(regulator, from_commands.at(0)));
+  EXPECT_TRUE(acts_on(effect_spec(EffectId::kMountStretch), from_measured.at(0)));
+  const long replays = measured.stats().trajectories;
+  EXPECT_EQ(measured.predict(from_measured.at(0), regulator_variant(true, 0.03), false), driven);
+  EXPECT_EQ(measured.stats().trajectories, replays);
+  ModelVariant stretched = nominal;
+  apply_effect(EffectId::kMountStretch, std::vector<double>{3.0}, stretched);
+  const std::vector<double> stiffer = measured.predict(from_measured.at(0), stretched, false);
+  EXPECT_GT(std::abs(stiffer.back() - driven.back()), 0.1);  // [deg]
 }
 
 }  // namespace
