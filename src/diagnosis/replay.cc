@@ -319,6 +319,16 @@ class StepCommands {
   bool mixed_ = false;    // the last step's command was a mean
 };
 
+// `series`, sampled every `dt` from t = 0, at time `t`: linear between samples (a sample itself on the grid), held
+// beyond its ends.
+double sampled_at(const std::vector<double>& series, double dt, double t) {
+  const double k = std::clamp(t / dt, 0.0, static_cast<double>(series.size() - 1));
+  const auto below = std::min(series.size() - 1, static_cast<std::size_t>(k));
+  const std::size_t above = std::min(series.size() - 1, below + 1);
+  const double w = k - static_cast<double>(below);
+  return w < 1e-9 ? series[below] : (1.0 - w) * series[below] + w * series[above];
+}
+
 // What a trajectory's replay depends on besides the model: the trial and the conventions that change how it is run
 // (the start, the gravity).
 std::string trial_key(const Trial& trial) {
@@ -594,11 +604,11 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
     sim::WristSim wrist(model);
     wrist.reset();
     const auto& samples = trial.trajectory;
-    const std::vector<control::Pressures> none;
-    MeasuredPressures pressures(samples, measured ? *drive : none, variant, pa_to_kpa(device.regulator.max_pressure));
+    std::optional<MeasuredPressures> pressures;
+    if (measured) pressures.emplace(samples, *drive, variant, pa_to_kpa(device.regulator.max_pressure));
     if (trial.conventions.angles_zeroed_at_start) {
       if (measured) {
-        wrist.set_regulated_pressures_kpa(pressures.at(samples.front().t));
+        wrist.set_regulated_pressures_kpa(pressures->at(samples.front().t));
       } else {
         wrist.command_pressures_kpa(samples.front().command_kpa);
       }
@@ -618,7 +628,7 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Tria
       const double t = wrist.time() - start;
       if (measured) {
         // A step's force is the pressure at its start (MuJoCo's Euler step): the measured pressure there.
-        wrist.set_regulated_pressures_kpa(pressures.at(t));
+        wrist.set_regulated_pressures_kpa(pressures->at(t));
       } else if (const auto command = commands.over(t, t + result->dt)) {
         wrist.command_pressures_kpa(*command);
       }
@@ -687,12 +697,8 @@ std::vector<control::Pressures> ReplayEngine::drive_readings(const Trial& trial,
   const std::size_t n = samples.size();
   std::vector<control::Pressures> model_reading(n), difference(n), out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double k = std::clamp(samples[i].t / model.dt, 0.0, static_cast<double>(model.pressure_kpa[0].size() - 1));
-    const auto below = static_cast<std::size_t>(k);
-    const std::size_t above = std::min(model.pressure_kpa[0].size() - 1, below + 1);
-    const double w = k - static_cast<double>(below);
     for (std::size_t m = 0; m < 4; ++m) {
-      const double kpa = (1.0 - w) * model.pressure_kpa[m][below] + w * model.pressure_kpa[m][above];
+      const double kpa = sampled_at(model.pressure_kpa[m], model.dt, samples[i].t);
       model_reading[i][m] = nominal.monitor_gain[m] * kpa + pa_to_kpa(nominal.monitor_offset[m]);
       difference[i][m] = (*samples[i].measured_kpa)[m] - model_reading[i][m];
     }
@@ -706,7 +712,7 @@ std::vector<control::Pressures> ReplayEngine::drive_readings(const Trial& trial,
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
     const Trial& trial, const sim::DeviceDescription& device, const std::vector<std::pair<int, double>>& conditions) {
-  return cached(fmt::format("rom|{}|{}|{}", trial.name, trial.file, sim::device_to_json(device)), [&] {
+  return cached(fmt::format("rom|{}|{}", trial_key(trial), sim::device_to_json(device)), [&] {
     // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
     // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
     const auto started = std::chrono::steady_clock::now();
@@ -857,13 +863,7 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
   const double imu_period = sim::ImuModel{}.period_s;
   const std::size_t n = trial.trajectory.size();
   // `series` at time `t`, linear between the steps (a row's time is not always on the step's grid).
-  const auto at = [&](const std::vector<double>& series, double t) {
-    const double k = std::clamp(t / simulated->dt, 0.0, static_cast<double>(series.size() - 1));
-    const auto below = std::min(series.size() - 1, static_cast<std::size_t>(k));
-    const std::size_t above = std::min(series.size() - 1, below + 1);
-    const double w = k - static_cast<double>(below);
-    return w < 1e-9 ? series[below] : (1.0 - w) * series[below] + w * series[above];
-  };
+  const auto at = [&](const std::vector<double>& series, double t) { return sampled_at(series, simulated->dt, t); };
   // The reading the IMUs last sampled (every 10 ms) before `t`, `latency` late, of `series`.
   const auto imu_reading = [&](const std::vector<double>& series, double t) {
     return at(series, std::max(0.0, std::floor((t - variant.imu_latency) / imu_period + 1e-9) * imu_period));
