@@ -8,12 +8,26 @@
 #   controller on the planar steps (4x real time), and a rehearsed hardware trial (the bridge against the device
 #   emulator with a real device's effects) beside its simulation, the calibration of that emulated device from its own
 #   sensors (out/main/calibration/calibrated.json) and the planar steps with the model-based controller given it.
+#   bash scripts/main.sh                    builds build/release (Release) and runs the job
+#   bash scripts/main.sh --build-dir DIR    runs it with the softwrist of an existing build tree instead (CI: the
+#                                           test build, which has the same sources at -O2; a third build would
+#                                           add five minutes to CI and test nothing the other two do not)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+build=build/release
+if [ "${1:-}" = "--build-dir" ] && [ -n "${2:-}" ]; then
+  build=$2
+  [ -f "$build/CMakeCache.txt" ] || { echo "main.sh: $build is not a configured build tree" >&2; exit 2; }
+elif [ -n "${1:-}" ]; then
+  echo "usage: $0 [--build-dir DIR]" >&2
+  exit 2
+fi
 bash scripts/setup.sh
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DSOFTWRIST_BUILD_TESTS=OFF >/dev/null
-cmake --build build/release -j2 --target softwrist softwrist_fpam
-softwrist=./build/release/src/cli/softwrist
+if [ "$build" = build/release ]; then
+  cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DSOFTWRIST_BUILD_TESTS=OFF >/dev/null
+fi
+cmake --build "$build" -j2 --target softwrist softwrist_fpam
+softwrist=./$build/src/cli/softwrist
 $softwrist model tables --out out/main
 for experiment in torque_validation range_of_motion design_optimization planar_tracking spatial_tracking; do
   $softwrist run "experiments/$experiment.json" --out "out/main/$experiment" --jobs 2 --quiet --overwrite
