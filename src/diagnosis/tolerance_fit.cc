@@ -262,7 +262,8 @@ optimize::ResidualFunction residuals_of(const GapProblem& problem,
 }
 
 optimize::LeastSquaresSettings settings_of(const std::vector<Knob>& knobs, const DiagnosisOptions& options) {
-  optimize::LeastSquaresSettings settings{.max_evaluations = options.tolerance_evaluations, .jobs = options.jobs};
+  optimize::LeastSquaresSettings settings{
+      .max_evaluations = options.tolerance_evaluations, .jobs = options.jobs, .secant_updates = true};
   for (const Knob& k : knobs) {
     settings.lower.push_back(k.low);
     settings.upper.push_back(k.high);

@@ -162,34 +162,58 @@ LeastSquaresResult minimize_least_squares(const ResidualFunction& residuals, std
   double cost = r.squaredNorm();
   double lambda = 1e-3;
   int iterations = 0;
-  while (solver.evaluations() + n + 1 <= settings.max_evaluations) {
-    VectorXd lower, upper;
-    const MatrixXd jacobian = solver.jacobian(x, r, lower, upper);
-    ++iterations;
-    const MatrixXd H = jacobian.transpose() * jacobian;
-    const VectorXd g = jacobian.transpose() * r;
-    double decrease = -1.0;
-    while (solver.evaluations() < settings.max_evaluations && lambda < 1e8) {
-      VectorXd d = damped_step(H, g, lambda, x, lower, upper);
-      if (d.lpNorm<Eigen::Infinity>() < 1e-12) break;
-      // An infeasible trial point is backed off along the step (halved up to three times); a worse one raises the
-      // damping.
-      std::optional<VectorXd> rn;
-      for (int halving = 0; halving < 4 && solver.evaluations() < settings.max_evaluations; ++halving, d *= 0.5) {
-        rn = solver.evaluate(x + d);
-        if (rn) break;
-      }
-      if (rn && rn->size() == r.size() && rn->squaredNorm() < cost) {
-        decrease = (cost - rn->squaredNorm()) / cost;
-        x += d;
-        r = *rn;
-        cost = r.squaredNorm();
-        lambda = std::max(lambda / 5.0, 1e-9);
-        break;
-      }
-      lambda *= 5.0;
+  MatrixXd jacobian;
+  VectorXd lower, upper;
+  bool need_jacobian = true;
+  bool fresh = false;  // the Jacobian is the finite differences' at x, not yet moved by a secant update
+  while (true) {
+    if (need_jacobian) {
+      if (solver.evaluations() + n + 1 > settings.max_evaluations) break;
+      jacobian = solver.jacobian(x, r, lower, upper);
+      ++iterations;
+      fresh = true;
+      need_jacobian = false;
     }
-    if (decrease < settings.cost_tolerance_rel) break;  // no step lowered the cost, or too little to go on
+    if (solver.evaluations() >= settings.max_evaluations || lambda >= 1e8) break;
+    VectorXd d = damped_step(jacobian.transpose() * jacobian, jacobian.transpose() * r, lambda, x, lower, upper);
+    if (d.lpNorm<Eigen::Infinity>() < 1e-12) {
+      if (fresh) break;  // no step left on the true local model
+      need_jacobian = true;
+      continue;
+    }
+    // A secant model that promises less than the tolerance has stalled: differenced again rather than tried.
+    if (!fresh && cost - (r + jacobian * d).squaredNorm() < settings.cost_tolerance_rel * cost) {
+      need_jacobian = true;
+      continue;
+    }
+    // An infeasible trial point is backed off along the step (halved up to three times); a worse one raises the
+    // damping.
+    std::optional<VectorXd> rn;
+    for (int halving = 0; halving < 4 && solver.evaluations() < settings.max_evaluations; ++halving, d *= 0.5) {
+      rn = solver.evaluate(x + d);
+      if (rn) break;
+    }
+    if (rn && rn->size() == r.size() && rn->squaredNorm() < cost) {
+      const double decrease = (cost - rn->squaredNorm()) / cost;
+      const bool stepped_on_fresh = fresh;
+      if (settings.secant_updates) {
+        // Broyden's rank-one update (Broyden 1965): the model now maps the step taken to the change it caused.
+        jacobian += ((*rn - r) - jacobian * d) * d.transpose() / d.squaredNorm();
+        fresh = false;
+      }
+      x += d;
+      r = *rn;
+      cost = r.squaredNorm();
+      lambda = std::max(lambda / 5.0, 1e-9);
+      // Too little to go on: the fit stops where the differenced model gave the step, and a secant model that gave
+      // it is differenced again first.
+      if (decrease < settings.cost_tolerance_rel && stepped_on_fresh) break;
+      need_jacobian = !settings.secant_updates || decrease < settings.cost_tolerance_rel;
+      continue;
+    }
+    lambda *= 5.0;
+    // A secant model that promised a decrease it did not give may be stale: differenced again before damping more.
+    if (!fresh) need_jacobian = true;
   }
   return {.x = std::vector<double>(x.data(), x.data() + n),
           .cost = cost,

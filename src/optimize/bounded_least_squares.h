@@ -25,6 +25,12 @@ struct LeastSquaresSettings {
   int max_evaluations = 100;         // residual evaluations, the Jacobians' included
   int jobs = 1;                      // threads for a Jacobian's columns
   double cost_tolerance_rel = 1e-4;  // stop when an accepted step lowers the cost by less than this fraction
+  // After the first Jacobian, update it by Broyden's rank-one formula from each step taken instead of differencing it
+  // again (the secant Levenberg-Marquardt method of Madsen, Nielsen & Tingleff 2004, "Methods for non-linear least
+  // squares problems", Sec. 3.4): one evaluation per iteration instead of n + 1. It is differenced again where a
+  // step on it fails or stalls, so the fit stops only on a true local model. For residuals close to linear in the
+  // parameters (a fit within small tolerances), where after the first step the differences relearn little.
+  bool secant_updates = false;
   // Parameters whose Jacobian columns are cheap to evaluate right after the point itself (a caller's cache keeps
   // what they do not change): evaluated first, on the calling thread.
   std::vector<bool> cheap;
@@ -34,7 +40,7 @@ struct LeastSquaresResult {
   std::vector<double> x;  // the best point evaluated
   double cost = 0.0;      // sum of squared residuals there
   int evaluations = 0;
-  int iterations = 0;  // Jacobians computed
+  int iterations = 0;  // Jacobians computed by differences
 };
 
 // Minimises the sum of squared residuals from `start` (clamped into the bounds). Throws std::invalid_argument for
