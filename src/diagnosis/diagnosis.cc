@@ -244,8 +244,9 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
   }
   std::uint64_t round_seed = options.seed + 1000;
   while (!candidates.empty() && static_cast<int>(c.effects.size()) < options.max_combined) {
-    // Nothing left to cut: no try could close min_gain of it (nor join with a refit), so none is fitted.
-    if (!c.effects.empty() && !(problem.heldout_error(problem.heldout_sums(c.full)) > 0.0)) break;
+    // Nothing left to cut: no try could close min_gain (> 0) of it, nor join with a refit, so none is fitted.
+    if (!c.effects.empty() && options.min_gain > 0.0 && !(problem.heldout_error(problem.heldout_sums(c.full)) > 0.0))
+      break;
     std::vector<EffectFit> tries;
     if (c.effects.empty()) {
       tries.push_back(*std::find_if(single_fits.begin(), single_fits.end(),

@@ -28,8 +28,10 @@ struct LeastSquaresSettings {
   // After the first Jacobian, update it by Broyden's rank-one formula from each step taken instead of differencing it
   // again (the secant Levenberg-Marquardt method of Madsen, Nielsen & Tingleff 2004, "Methods for non-linear least
   // squares problems", Sec. 3.4): one evaluation per iteration instead of n + 1. It is differenced again where a
-  // step on it fails or stalls, so the fit stops only on a true local model. For residuals close to linear in the
-  // parameters (a fit within small tolerances), where after the first step the differences relearn little.
+  // step on it fails or stalls, so the fit stops on a differenced model unless the budget runs out first. The
+  // bounds fenced by a differencing (infeasible directions) stay as they were until the next one. For residuals close
+  // to linear in the parameters (a fit within small tolerances), where after the first step the differences relearn
+  // little.
   bool secant_updates = false;
   // Parameters whose Jacobian columns are cheap to evaluate right after the point itself (a caller's cache keeps
   // what they do not change): evaluated first, on the calling thread.
