@@ -90,9 +90,13 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
 // file, not kept):
 //  - trajectories: the generated model's 1 ms. At 2 ms their angles differ from the 0.5 ms replay by 0.033 / 0.058
 //    deg RMS (flexion / ulnar), at 1 ms by 0.028 / 0.056: the step adds little to what the first-order integrator
-//    leaves at 1 ms. But data made by the catalogue's own simulated device (at 1 ms) are then not reproduced by the
-//    nominal, and a fit of the fPAM's four parameters absorbed the difference (r0 x 0.919 for the true 0.9, its
-//    force law 1.5 N off at 0 kPa; DiagnosisTest.EachEffectRecoveredByItsOwnFit): kept at 1 ms.
+//    leaves at 1 ms. On the paper's device (`synthesize`, 72 s) the nominal's predictions at 2 ms differ from those at
+//    1 ms by 0.0064 deg RMS (2.6 % of the angles' noise) and 0.0087 kPa (3 % of the pressures'), and would make
+//    `bench diagnose` 1.6 times as fast. But data made by the catalogue's own simulated device (at 1 ms) are then not
+//    reproduced by the nominal, and fits of weakly determined parameters move along their valleys: under BOBYQA the
+//    fPAM's four (r0 x 0.919 for the true 0.9; Levenberg-Marquardt now reaches the floor at either step, r0 x 0.9003
+//    and 0.9005), and the tolerance fit's ulnar hand anchor, 2 mm nearer the wrist, came out at its box's edge (d2
+//    0.7 cm for the true 0.8; DiagnosisTest.OneMusclesAnchorWithinItsToleranceIsNone): kept at 1 ms.
 //  - range of motion: 2 ms. A settled angle is an equilibrium, which does not depend on the step: within 0.0019 deg
 //    of the 1 ms replay's. (At 4 ms, within 0.0011 deg, the same fit of four parameters came out at r0 x 0.921: it
 //    lies in a flat valley that such differences move it along.)
