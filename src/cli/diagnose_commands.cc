@@ -34,6 +34,7 @@ struct DiagnoseOptions {
   std::string tolerances;  // a tolerance file
   bool no_tolerances = false;
   bool rank_beyond_tolerances = false;
+  bool effects_within_tolerances = false;
   bool pressures_from_commands = false;
 };
 
@@ -54,7 +55,10 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   if (o.no_tolerances) options.tolerances = diagnosis::Tolerances::none();
   if (o.no_tolerances && o.rank_beyond_tolerances)
     throw UsageError("--rank-beyond-tolerances needs the tolerances; it excludes --no-tolerances");
+  if (o.no_tolerances && o.effects_within_tolerances)
+    throw UsageError("--effects-within-tolerances needs the tolerances; it excludes --no-tolerances");
   options.rank_beyond_tolerances = o.rank_beyond_tolerances;
+  options.effects_within_tolerances = o.effects_within_tolerances;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
@@ -323,8 +327,8 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   const bool independent = o.generator == "independent";
   if (!independent && o.generator != "catalogue")
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
-  for (const char* only :
-       {"--shard", "--out", "--merge", "--forms", "--no-pairs", "--min-level", "--torque-rig", "--prototype"}) {
+  for (const char* only : {"--shard", "--out", "--merge", "--forms", "--no-pairs", "--min-level", "--torque-rig",
+                           "--prototype", "--effects-within-tolerances"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
@@ -419,6 +423,8 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
       "independent: without the pairs of two effects");
   bench->add_option("--min-level", b->independent.min_level,
                     "independent: each effect's level is drawn log-uniform in [this, 1] (default 0.2)");
+  bench->add_flag("--effects-within-tolerances", b->independent.effects_within_tolerances,
+                  "independent: diagnose with diagnose's experimental --effects-within-tolerances");
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
@@ -449,6 +455,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--rank-beyond-tolerances", d->rank_beyond_tolerances,
                      "Experimental: rank the effects fitted on top of the nominal within its tolerances, and decide "
                      "there (docs/diagnosis.md)");
+  diagnose->add_flag("--effects-within-tolerances", d->effects_within_tolerances,
+                     "Experimental: fit the effects and their combination from the nominal within its tolerances (the "
+                     "tolerance fit's model) instead of from the nominal as placed (docs/diagnosis.md)");
   diagnose->add_flag("--pressures-from-commands", d->pressures_from_commands,
                      "Replay trajectories from their commands through the simulated regulators even where the log "
                      "has the measured pressures (by default those drive the muscles; docs/diagnosis.md)");

@@ -23,6 +23,7 @@ struct IndependentBenchArguments {
   std::vector<std::string> merge;  // summaries of shards to merge instead of running
   std::string torque_rig = "experiments/independent_device/torque_rig.json";
   std::string prototype = "experiments/independent_device/prototype.json";
+  bool effects_within_tolerances = false;  // the diagnosis's experimental switch (DiagnosisOptions)
   bool json = false;
 };
 

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
+#include <span>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -127,7 +130,8 @@ void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const Mode
 // The fits' extensions (extend_fit) where their base forms leave a gap: the lowest held-out error among `fits` still
 // at least min_gap noise units. Where a base form closes the gap, no extension has anything left to explain, and none
 // is searched (the paper-sized set: the mounts close it all, and the extensions' searches would add half its time).
-void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit>& fits, const BaseModel& base,
+void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit>& fits,
+                                const std::function<BaseModel(EffectId)>& base_of,
                                 const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options,
                                 std::uint64_t seed) {
   double lowest = INFINITY;
@@ -136,13 +140,13 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
   }
   if (!(lowest >= options.min_gap) || !std::isfinite(lowest)) return;
   parallel_for(static_cast<int>(fits.size()), options.jobs, [&](int k) {
-    extend_fit(problem, fits[static_cast<std::size_t>(k)], base, nominal_device, options,
-               seed + static_cast<std::uint64_t>(k));
+    EffectFit& fit = fits[static_cast<std::size_t>(k)];
+    extend_fit(problem, fit, base_of(fit.id), nominal_device, options, seed + static_cast<std::uint64_t>(k));
   });
 }
 
 // Each effect alone on the nominal model, best first (applicable ones before the others).
-std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseModel& nominal,
+std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const std::function<BaseModel(EffectId)>& base_of,
                                        const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   const std::vector<EffectId> ids = requested_effects(options);
   std::vector<EffectFit> fits(ids.size());
@@ -161,9 +165,9 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const BaseMode
                    [&](std::size_t a, std::size_t b) { return cost(ids[a]) > cost(ids[b]); });
   parallel_for(static_cast<int>(ids.size()), options.jobs, [&](int i) {
     const std::size_t k = order[static_cast<std::size_t>(i)];
-    fits[k] = fit_effect(problem, ids[k], nominal, nominal_device, options, options.seed + k);
+    fits[k] = fit_effect(problem, ids[k], base_of(ids[k]), nominal_device, options, options.seed + k);
   });
-  extend_where_a_gap_remains(problem, fits, nominal, nominal_device, options, options.seed + 300);
+  extend_where_a_gap_remains(problem, fits, base_of, nominal_device, options, options.seed + 300);
   std::stable_sort(fits.begin(), fits.end(), [](const EffectFit& a, const EffectFit& b) {
     if (a.applicable != b.applicable) return a.applicable;
     return a.heldout_error_after < b.heldout_error_after;
@@ -260,7 +264,8 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
             fit_effect(problem, candidates[static_cast<std::size_t>(k)], current, nominal_device, options,
                        round_seed + static_cast<std::uint64_t>(k));
       });
-      extend_where_a_gap_remains(problem, tries, current, nominal_device, options, round_seed + 30);
+      extend_where_a_gap_remains(
+          problem, tries, [&](EffectId) { return current; }, nominal_device, options, round_seed + 30);
       round_seed += 100;
     }
     // Of the tries that would join (helps), the leader of the round; none joins when none helps.
@@ -566,6 +571,39 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
 
 }  // namespace
 
+// Where asked (DiagnosisOptions::effects_within_tolerances), the base each effect is fitted from: the nominal within
+// its tolerances with the effect's own tolerance parameters back at the nominal, so that the effect takes its whole
+// value (an fPAM 8 % wider than placed is 3 % within its r0 tolerance and 5 % beyond it: on the whole tolerance fit,
+// the 3 % would be no one's).
+struct OwnBases {
+  std::vector<EffectId> ids;
+  std::vector<ModelVariant> variants;
+  std::vector<Predictions> training, full;
+  BaseModel of(EffectId id, const BaseModel& otherwise) const {
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end()) return otherwise;
+    const auto k = static_cast<std::size_t>(it - ids.begin());
+    return {.variant = variants[k], .training = training[k], .full = full[k]};
+  }
+};
+
+OwnBases own_bases_within_tolerances(const Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+                                     const DiagnosisOptions& options) {
+  OwnBases own;
+  if (!d.tolerance.variant) return own;
+  own.ids = requested_effects(options);
+  for (const EffectId& id : own.ids)
+    own.variants.push_back(within_tolerances_without(problem, nominal, options, d.tolerance, std::span(&id, 1), {}));
+  own.training.resize(own.ids.size());
+  own.full.resize(own.ids.size());
+  parallel_for(static_cast<int>(own.ids.size()), options.jobs, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    own.training[k] = problem.evaluate(own.variants[k], true);
+    own.full[k] = problem.evaluate(own.variants[k], false);
+  });
+  return own;
+}
+
 Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, ReplayEngine& engine,
                    const DiagnosisOptions& options) {
   Diagnosis d;
@@ -600,9 +638,15 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     d.corrected.emplace(*beyond_tolerance_model(d, options));
     d.corrected_predictions = problem.evaluate(*d.corrected, false);
   } else {
-    d.effects = fit_each_effect(problem, reference, nominal_device, options);
+    // The base the effects are fitted from: the nominal as placed, or within its tolerances where asked and fitted.
+    const OwnBases own = options.effects_within_tolerances && any_gap
+                             ? own_bases_within_tolerances(d, problem, nominal, options)
+                             : OwnBases{};
+    const auto base_of = [&](EffectId id) { return own.of(id, reference); };
+    d.effects = fit_each_effect(problem, base_of, nominal_device, options);
+    const BaseModel base = d.effects.empty() ? reference : base_of(d.effects.front().id);  // the leader's
     Combination combination =
-        combine_greedily(problem, d.effects, nominal, nominal_training, nominal_full, nominal_device, options);
+        combine_greedily(problem, d.effects, base.variant, base.training, base.full, nominal_device, options);
     if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
       combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
       combination.full = problem.evaluate(combination.model, false);
@@ -610,7 +654,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     d.combination = std::move(combination.effects);
     d.corrected.emplace(std::move(combination.model));
     d.corrected_predictions = std::move(combination.full);
-    measure_explained(d, problem, nominal, nominal_full);
+    measure_explained(d, problem, base.variant, base.full);
     measure_leader_beyond_tolerance(d, problem, nominal, nominal_device, options);
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);

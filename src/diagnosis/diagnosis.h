@@ -76,6 +76,11 @@ struct DiagnosisOptions {
   // the effects fitted from the nominal as placed. It names a regulator that vents slowly and an fPAM in another form,
   // but loses the two-rig mount stiffness and the second of two effects (measured in the README).
   bool rank_beyond_tolerances = false;
+  // Experimental, off by default: each effect fitted, and the combination grown, from the nominal within its
+  // tolerances (the tolerance fit's model, held as it is) instead of from the nominal as placed, so that the effects
+  // compete for the gap the tolerances leave rather than for the device's own scatter. As cheap as the default (no
+  // joint refit with the tolerances, unlike rank_beyond_tolerances).
+  bool effects_within_tolerances = false;
   // Beyond the tolerances: how many of the best effects are refitted jointly with every tolerance, each with
   // tolerance_evaluations replays.
   int beyond_joint_candidates = 2;
