@@ -305,17 +305,18 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
   }
 }
 
-// How much of the held-out gap the leading effect closes on its own, over the gap trials of the kinds it acts on.
-void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
-                       const Predictions& nominal_full) {
+// How much of the held-out gap the leading effect closes on its own from the base it was fitted on, over the gap
+// trials of the kinds it acts on.
+void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& base,
+                       const Predictions& base_full) {
   if (d.combination.empty()) return;
   const EffectFit& leading = d.combination.front();
   d.leading_effect = leading.name;
   const std::vector<bool> acted_on = gap_trials_acted_on(problem, d.trials, effect_spec(leading.id));
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
-  ModelVariant alone = nominal;
+  ModelVariant alone = base;
   apply_effect(leading.id, leading.values, alone);
-  const double before = problem.heldout_error(problem.heldout_sums(nominal_full), nullptr, &acted_on);
+  const double before = problem.heldout_error(problem.heldout_sums(base_full), nullptr, &acted_on);
   const double after = problem.heldout_error(problem.heldout_sums(problem.evaluate(alone, false)), nullptr, &acted_on);
   d.explained_fraction = fraction_closed(before, after);
 }

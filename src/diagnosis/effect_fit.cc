@@ -63,16 +63,6 @@ struct SearchedPoint {
   double training_error = 0.0;
 };
 
-// The training error at `u`: the sum of squares of the weighted training residuals (GapProblem::training_residuals),
-// kInfeasible where the model cannot be replayed.
-double error_at(const optimize::ResidualFunction& residuals, std::span<const double> u) {
-  const std::optional<std::vector<double>> r = residuals(u);
-  if (!r) return kInfeasible;
-  double sum = 0.0;
-  for (const double v : *r) sum += v * v;
-  return sum;
-}
-
 // The polish's budget: n + 1 replays per Levenberg-Marquardt iteration, so a larger effect gets a larger one, 15
 // evaluations per parameter beyond two.
 int search_budget(int max_evaluations, std::size_t parameters) {
@@ -109,9 +99,9 @@ SearchedPoint polish(const optimize::ResidualFunction& residuals, const Searched
 SearchedPoint search_unit_cube(const optimize::ResidualFunction& residuals, std::vector<double> start_u,
                                int max_evaluations) {
   SearchedPoint best{.u = std::move(start_u), .training_error = 0.0};
-  best.training_error = error_at(residuals, best.u);
+  best.training_error = sum_of_squares_or_infeasible(residuals(best.u));
   for (const std::vector<double>& u : start_grid(best.u.size())) {
-    const double value = error_at(residuals, u);
+    const double value = sum_of_squares_or_infeasible(residuals(u));
     if (value < best.training_error) best = {.u = u, .training_error = value};
   }
   return polish(residuals, best, max_evaluations);
@@ -146,7 +136,7 @@ SearchedPoint search_extensions(const optimize::ResidualFunction& residuals, con
     for (const double level : {0.2, 0.5, 0.8}) {
       std::vector<double> u = *from;
       for (const std::size_t i : extension_indices) u[i] = level;
-      const double value = error_at(residuals, u);
+      const double value = sum_of_squares_or_infeasible(residuals(u));
       if (value < best.training_error) best = {.u = std::move(u), .training_error = value};
     }
   }

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -16,6 +17,15 @@ namespace softwrist::diagnosis {
 
 // A failed replay or an unphysical parameter makes the objective this large, so the search turns away.
 inline constexpr double kInfeasible = 1e12;
+
+// The sum of squares of weighted training residuals (GapProblem::training_residuals: the training error), or
+// kInfeasible where there are none (the model could not be built or replayed).
+inline double sum_of_squares_or_infeasible(const std::optional<std::vector<double>>& residuals) {
+  if (!residuals) return kInfeasible;
+  double sum = 0.0;
+  for (const double v : *residuals) sum += v * v;
+  return sum;
+}
 
 using Predictions = std::vector<std::vector<double>>;  // [trial][point]
 

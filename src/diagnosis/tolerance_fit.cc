@@ -349,10 +349,7 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
   if (!start_from_nominal.empty()) {  // the start whose training error is lower
     const auto cost = [&](const std::vector<double>& x) {
       ++evaluations;
-      const auto r = residuals(x);
-      double c = 0.0;
-      for (double v : r.value_or(std::vector<double>{kInfeasible})) c += v * v;
-      return c;
+      return sum_of_squares_or_infeasible(residuals(x));
     };
     if (cost(x0_nominal) < cost(x0)) x0 = x0_nominal;
   }
