@@ -23,6 +23,21 @@
 namespace softwrist::cli {
 namespace {
 
+// --effect-base, for diagnose and diagnose-bench (DiagnosisOptions::effect_base): its value, or a usage error.
+diagnosis::EffectBase effect_base_named(const std::string& name) {
+  if (name == "better") return diagnosis::EffectBase::kBetterOfBoth;
+  if (name == "as-placed") return diagnosis::EffectBase::kAsPlaced;
+  if (name == "within-tolerances") return diagnosis::EffectBase::kWithinTolerances;
+  throw UsageError(fmt::format("--effect-base: '{}' is none of better, as-placed, within-tolerances", name));
+}
+
+void add_effect_base_option(CLI::App& command, std::string& base) {
+  command.add_option("--effect-base", base,
+                     "What each effect is fitted from: better (from both below, the fit that predicts the held-out "
+                     "data better kept; the default), as-placed (the nominal as placed) or within-tolerances (the "
+                     "nominal within its tolerances, the effect's own back at the nominal) (docs/diagnosis.md)");
+}
+
 namespace fs = std::filesystem;
 
 struct DiagnoseOptions {
@@ -34,7 +49,7 @@ struct DiagnoseOptions {
   std::string tolerances;  // a tolerance file
   bool no_tolerances = false;
   bool rank_beyond_tolerances = false;
-  bool effects_within_tolerances = false;
+  std::string effect_base = "better";
   bool pressures_from_commands = false;
 };
 
@@ -55,10 +70,10 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   if (o.no_tolerances) options.tolerances = diagnosis::Tolerances::none();
   if (o.no_tolerances && o.rank_beyond_tolerances)
     throw UsageError("--rank-beyond-tolerances needs the tolerances; it excludes --no-tolerances");
-  if (o.no_tolerances && o.effects_within_tolerances)
-    throw UsageError("--effects-within-tolerances needs the tolerances; it excludes --no-tolerances");
+  options.effect_base = effect_base_named(o.effect_base);
+  if (o.no_tolerances && options.effect_base == diagnosis::EffectBase::kWithinTolerances)
+    throw UsageError("--effect-base within-tolerances needs the tolerances; it excludes --no-tolerances");
   options.rank_beyond_tolerances = o.rank_beyond_tolerances;
-  options.effects_within_tolerances = o.effects_within_tolerances;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
@@ -240,6 +255,7 @@ struct DiagnoseBenchmarkOptions {
   double trajectory_s = 24.0;
   std::string keep;
   double variation = 1.0;
+  std::string effect_base = "better";
   bool json = false;
 };
 
@@ -258,6 +274,7 @@ void run_catalogue_benchmark(const DiagnoseBenchmarkOptions& o, std::ostream& ou
   }
   diagnosis::BenchOptions options{.seeds = o.seeds, .first_seed = o.first_seed, .jobs = o.jobs, .cases = o.cases};
   options.plan.trajectory_s = o.trajectory_s;
+  options.diagnosis.effect_base = effect_base_named(o.effect_base);
   if (!(o.variation >= 0.0 && o.variation <= 10.0)) throw UsageError("--variation must be within 0..10");
   options.variation = o.variation;
   options.keep = !o.keep.empty();
@@ -327,8 +344,8 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   const bool independent = o.generator == "independent";
   if (!independent && o.generator != "catalogue")
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
-  for (const char* only : {"--shard", "--out", "--merge", "--forms", "--no-pairs", "--min-level", "--torque-rig",
-                           "--prototype", "--effects-within-tolerances"}) {
+  for (const char* only :
+       {"--shard", "--out", "--merge", "--forms", "--no-pairs", "--min-level", "--torque-rig", "--prototype"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
@@ -343,6 +360,7 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   if (o.seeds != 0) a.seeds = o.seeds;
   a.first_seed = o.first_seed;
   a.jobs = o.jobs;
+  a.effect_base = effect_base_named(o.effect_base);
   if (command.count("--trajectory-s") > 0) a.trajectory_s = o.trajectory_s;
   a.keep = o.keep;
   a.json = o.json;
@@ -423,8 +441,7 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
       "independent: without the pairs of two effects");
   bench->add_option("--min-level", b->independent.min_level,
                     "independent: each effect's level is drawn log-uniform in [this, 1] (default 0.2)");
-  bench->add_flag("--effects-within-tolerances", b->independent.effects_within_tolerances,
-                  "independent: diagnose with diagnose's experimental --effects-within-tolerances");
+  add_effect_base_option(*bench, b->effect_base);
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
@@ -455,9 +472,7 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--rank-beyond-tolerances", d->rank_beyond_tolerances,
                      "Experimental: rank the effects fitted on top of the nominal within its tolerances, and decide "
                      "there (docs/diagnosis.md)");
-  diagnose->add_flag("--effects-within-tolerances", d->effects_within_tolerances,
-                     "Experimental: fit the effects and their combination from the nominal within its tolerances (the "
-                     "tolerance fit's model) instead of from the nominal as placed (docs/diagnosis.md)");
+  add_effect_base_option(*diagnose, d->effect_base);
   diagnose->add_flag("--pressures-from-commands", d->pressures_from_commands,
                      "Replay trajectories from their commands through the simulated regulators even where the log "
                      "has the measured pressures (by default those drive the muscles; docs/diagnosis.md)");

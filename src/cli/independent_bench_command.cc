@@ -78,7 +78,7 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
                                 .min_level = a.min_level,
                                 .jobs = a.jobs};
   if (!a.pairs) o.pairs.clear();
-  o.diagnosis.effects_within_tolerances = a.effects_within_tolerances;
+  o.diagnosis.effect_base = a.effect_base;
   try {
     std::tie(o.shard_index, o.shard_count) = experiments::parse_shard(a.shard);
   } catch (const std::invalid_argument& e) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "diagnosis/diagnosis.h"
+
 namespace softwrist::cli {
 
 struct IndependentBenchArguments {
@@ -23,7 +25,7 @@ struct IndependentBenchArguments {
   std::vector<std::string> merge;  // summaries of shards to merge instead of running
   std::string torque_rig = "experiments/independent_device/torque_rig.json";
   std::string prototype = "experiments/independent_device/prototype.json";
-  bool effects_within_tolerances = false;  // the diagnosis's experimental switch (DiagnosisOptions)
+  diagnosis::EffectBase effect_base = diagnosis::EffectBase::kBetterOfBoth;  // DiagnosisOptions::effect_base
   bool json = false;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -127,11 +128,61 @@ void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const Mode
   }
 }
 
+// Where asked (EffectBase), the base each effect is fitted from: the nominal within its tolerances with the effect's
+// own tolerance parameters back at the nominal, so that the effect takes its whole value (an fPAM 8 % wider than
+// placed is 3 % within its r0 tolerance and 5 % beyond it: on the whole tolerance fit, the 3 % would be no one's).
+struct OwnBases {
+  std::vector<EffectId> ids;
+  std::vector<ModelVariant> variants;
+  std::vector<Predictions> training, full;
+  std::size_t parameters = 0;  // the tolerance fit's
+  BaseModel of(EffectId id, const BaseModel& otherwise) const {
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end()) return otherwise;
+    const auto k = static_cast<std::size_t>(it - ids.begin());
+    return {.variant = variants[k], .training = training[k], .full = full[k]};
+  }
+};
+
+OwnBases own_bases_within_tolerances(const Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
+                                     const DiagnosisOptions& options) {
+  OwnBases own;
+  if (!d.tolerance.variant) return own;
+  own.ids = requested_effects(options);
+  own.parameters = d.tolerance.params.size();
+  for (const EffectId& id : own.ids)
+    own.variants.push_back(within_tolerances_without(problem, nominal, options, d.tolerance, std::span(&id, 1), {}));
+  own.training.resize(own.ids.size());
+  own.full.resize(own.ids.size());
+  parallel_for(static_cast<int>(own.ids.size()), options.jobs, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    own.training[k] = problem.evaluate(own.variants[k], true);
+    own.full[k] = problem.evaluate(own.variants[k], false);
+  });
+  return own;
+}
+
+// The bases the effects are fitted from: the nominal as placed, its own base within the tolerances (OwnBases), or
+// both, the fit with the lower held-out error kept (EffectBase::kBetterOfBoth).
+struct EffectBases {
+  const BaseModel& as_placed;
+  const OwnBases& own;  // empty: from the nominal as placed only
+  bool as_placed_too = true;
+  // The bases to fit `id` from, each with whether it is the one within the tolerances.
+  std::vector<std::pair<BaseModel, bool>> of(EffectId id) const {
+    std::vector<std::pair<BaseModel, bool>> bases;
+    if (as_placed_too || own.ids.empty()) bases.emplace_back(as_placed, false);
+    if (!own.ids.empty()) bases.emplace_back(own.of(id, as_placed), true);
+    return bases;
+  }
+  BaseModel of(const EffectFit& fit) const { return fit.within_tolerances ? own.of(fit.id, as_placed) : as_placed; }
+};
+
 // The fits' extensions (extend_fit) where their base forms leave a gap: the lowest held-out error among `fits` still
 // at least min_gap noise units. Where a base form closes the gap, no extension has anything left to explain, and none
 // is searched (the paper-sized set: the mounts close it all, and the extensions' searches would add half its time).
 void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit>& fits,
-                                const std::function<BaseModel(EffectId)>& base_of,
+                                const std::function<BaseModel(const EffectFit&)>& base_of,
                                 const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options,
                                 std::uint64_t seed) {
   double lowest = INFINITY;
@@ -141,15 +192,23 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
   if (!(lowest >= options.min_gap) || !std::isfinite(lowest)) return;
   parallel_for(static_cast<int>(fits.size()), options.jobs, [&](int k) {
     EffectFit& fit = fits[static_cast<std::size_t>(k)];
-    extend_fit(problem, fit, base_of(fit.id), nominal_device, options, seed + static_cast<std::uint64_t>(k));
+    extend_fit(problem, fit, base_of(fit), nominal_device, options, seed + static_cast<std::uint64_t>(k));
   });
 }
 
-// Each effect alone on the nominal model, best first (applicable ones before the others).
-std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const std::function<BaseModel(EffectId)>& base_of,
+// Each effect alone on its bases (EffectBases), best first (applicable ones before the others). Of an effect fitted
+// from two bases, the one with the lower held-out error (as the effects are ranked, leader_of_round).
+std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const EffectBases& bases,
                                        const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   const std::vector<EffectId> ids = requested_effects(options);
-  std::vector<EffectFit> fits(ids.size());
+  struct Task {
+    std::size_t effect;
+    std::size_t base;
+  };
+  std::vector<Task> tasks;
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    for (std::size_t b = 0; b < bases.of(ids[k]).size(); ++b) tasks.push_back({k, b});
+  }
   // Started longest first, so that the threads finish together (the last one started was the longest, 15 of the 25 s
   // on the paper's case): the most parameters searched, and last those that replay only the regulators. The fits are
   // independent and each keeps its own seed, so the order changes nothing else.
@@ -159,15 +218,26 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const std::fun
                                         : std::count_if(spec.parameters.begin(), spec.parameters.end(),
                                                         [](const ParameterSpec& p) { return !p.extension; });
   };
-  std::vector<std::size_t> order(ids.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return cost(ids[a]) > cost(ids[b]); });
-  parallel_for(static_cast<int>(ids.size()), options.jobs, [&](int i) {
-    const std::size_t k = order[static_cast<std::size_t>(i)];
-    fits[k] = fit_effect(problem, ids[k], base_of(ids[k]), nominal_device, options, options.seed + k);
+  std::stable_sort(tasks.begin(), tasks.end(),
+                   [&](const Task& a, const Task& b) { return cost(ids[a.effect]) > cost(ids[b.effect]); });
+  std::vector<EffectFit> tried(tasks.size());
+  parallel_for(static_cast<int>(tasks.size()), options.jobs, [&](int i) {
+    const Task& task = tasks[static_cast<std::size_t>(i)];
+    const auto [base, within] = bases.of(ids[task.effect])[task.base];
+    EffectFit& fit = tried[static_cast<std::size_t>(i)];
+    fit = fit_effect(problem, ids[task.effect], base, nominal_device, options, options.seed + task.effect);
+    fit.within_tolerances = within;
+    fit.base_parameters = within ? bases.own.parameters : 0;
   });
-  extend_where_a_gap_remains(problem, fits, base_of, nominal_device, options, options.seed + 300);
+  std::vector<std::optional<EffectFit>> best(ids.size());
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    std::optional<EffectFit>& b = best[tasks[i].effect];
+    if (!b || (tried[i].applicable && tried[i].heldout_error_after < b->heldout_error_after)) b = std::move(tried[i]);
+  }
+  std::vector<EffectFit> fits;
+  for (auto& b : best) fits.push_back(std::move(*b));
+  extend_where_a_gap_remains(
+      problem, fits, [&](const EffectFit& f) { return bases.of(f); }, nominal_device, options, options.seed + 300);
   std::stable_sort(fits.begin(), fits.end(), [](const EffectFit& a, const EffectFit& b) {
     if (a.applicable != b.applicable) return a.applicable;
     return a.heldout_error_after < b.heldout_error_after;
@@ -229,19 +299,36 @@ bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<Effe
   return false;
 }
 
+// Where the combination grows from the nominal within its tolerances (its leader was fitted there): that model with the
+// own tolerance parameters of the given effects back at the nominal (within_tolerances_without). Empty: it grows from
+// the nominal as placed.
+using WithoutOwnTolerances = std::function<ModelVariant(std::span<const EffectId>)>;
+
+// The base a try `id` is fitted on in a round after the first: the combination's model; or, grown within the
+// tolerances, those with the own parameters of the combination's effects and of the try back at the nominal, and the
+// combination's effects on top, so that the try takes its whole value as the leader did (a relaxed wrist that led from
+// a base whose fPAM radius sat at its tolerance's edge left the fPAM 5 % wider only the last 2 %).
+ModelVariant try_base(const Combination& c, EffectId id, const WithoutOwnTolerances& without_own) {
+  if (!without_own) return c.model;
+  std::vector<EffectId> ids;
+  for (const EffectFit& e : c.effects) ids.push_back(e.id);
+  ids.push_back(id);
+  ModelVariant model = without_own(ids);
+  for (const EffectFit& e : c.effects) apply_effect(e.id, e.values, model);
+  return model;
+}
+
 // Greedy combination: the best effect first, then whichever of the next candidates cuts the remaining held-out
 // error most, while each cut is at least min_gain of it and its bootstrap interval stays above zero (with a joint
 // refit where the options ask for one, join_with_refit).
 Combination combine_greedily(const GapProblem& problem, const std::vector<EffectFit>& single_fits,
-                             const ModelVariant& nominal, const Predictions& nominal_training,
-                             const Predictions& nominal_full, const sim::DeviceDescription& nominal_device,
-                             const DiagnosisOptions& options) {
+                             const BaseModel& leader_base, const WithoutOwnTolerances& without_own,
+                             const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   const bool informative = interval_informative(problem);  // otherwise the cut alone
   const auto helps = [&](const EffectFit& f) {
     return f.applicable && f.shrink_fraction >= options.min_gain && (f.ci_low > 0.0 || !informative);
   };
-  Combination c{.effects = {}, .model = nominal, .full = nominal_full};
-  Predictions current_training = nominal_training;
+  Combination c{.effects = {}, .model = leader_base.variant, .full = leader_base.full};
   std::vector<EffectId> candidates;
   for (const auto& f : single_fits) {
     if (helps(f)) candidates.push_back(f.id);
@@ -252,35 +339,48 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
     if (!c.effects.empty() && options.min_gain > 0.0 && !(problem.heldout_error(problem.heldout_sums(c.full)) > 0.0))
       break;
     std::vector<EffectFit> tries;
+    std::vector<ModelVariant> bases;  // each try's, after the first round
     if (c.effects.empty()) {
       tries.push_back(*std::find_if(single_fits.begin(), single_fits.end(),
                                     [&](const EffectFit& f) { return f.id == candidates.front(); }));
+      bases.push_back(c.model);
     } else {
       const std::size_t count = std::min<std::size_t>(3, candidates.size());
       tries.resize(count);
-      const BaseModel current{.variant = c.model, .training = current_training, .full = c.full};
-      parallel_for(static_cast<int>(count), options.jobs, [&](int k) {
-        tries[static_cast<std::size_t>(k)] =
-            fit_effect(problem, candidates[static_cast<std::size_t>(k)], current, nominal_device, options,
-                       round_seed + static_cast<std::uint64_t>(k));
+      for (std::size_t k = 0; k < count; ++k) bases.push_back(try_base(c, candidates[k], without_own));
+      // One base for all the tries, replayed once, unless each has its own.
+      std::vector<Predictions> training(count), full(count, c.full);
+      if (!without_own) training.assign(count, problem.evaluate(c.model, true));
+      parallel_for(static_cast<int>(count), options.jobs, [&](int i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (without_own) {
+          training[k] = problem.evaluate(bases[k], true);
+          full[k] = problem.evaluate(bases[k], false);
+        }
+        tries[k] = fit_effect(problem, candidates[k], {.variant = bases[k], .training = training[k], .full = full[k]},
+                              nominal_device, options, round_seed + k);
       });
-      extend_where_a_gap_remains(
-          problem, tries, [&](EffectId) { return current; }, nominal_device, options, round_seed + 30);
+      const auto base_of = [&](const EffectFit& f) {
+        const auto k =
+            static_cast<std::size_t>(std::find(candidates.begin(), candidates.end(), f.id) - candidates.begin());
+        return BaseModel{.variant = bases[k], .training = training[k], .full = full[k]};
+      };
+      extend_where_a_gap_remains(problem, tries, base_of, nominal_device, options, round_seed + 30);
       round_seed += 100;
     }
     // Of the tries that would join (helps), the leader of the round; none joins when none helps.
     const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50, helps);
     if (leader < tries.size()) {
-      const auto best = tries.begin() + static_cast<std::ptrdiff_t>(leader);
-      apply_effect(best->id, best->values, c.model);
-      c.effects.push_back(*best);
+      const EffectFit& best = tries[leader];
+      c.model = std::move(bases[leader]);
+      apply_effect(best.id, best.values, c.model);
+      c.effects.push_back(best);
       c.full = problem.evaluate(c.model, false);
     } else if (c.effects.empty() || options.joint_refit_evaluations <= 0 ||
                !join_with_refit(problem, c, tries, nominal_device, options, informative, round_seed + 70)) {
       break;
     }
     candidates.erase(std::find(candidates.begin(), candidates.end(), c.effects.back().id));
-    current_training = problem.evaluate(c.model, true);
   }
   return c;
 }
@@ -572,39 +672,6 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
 
 }  // namespace
 
-// Where asked (DiagnosisOptions::effects_within_tolerances), the base each effect is fitted from: the nominal within
-// its tolerances with the effect's own tolerance parameters back at the nominal, so that the effect takes its whole
-// value (an fPAM 8 % wider than placed is 3 % within its r0 tolerance and 5 % beyond it: on the whole tolerance fit,
-// the 3 % would be no one's).
-struct OwnBases {
-  std::vector<EffectId> ids;
-  std::vector<ModelVariant> variants;
-  std::vector<Predictions> training, full;
-  BaseModel of(EffectId id, const BaseModel& otherwise) const {
-    const auto it = std::find(ids.begin(), ids.end(), id);
-    if (it == ids.end()) return otherwise;
-    const auto k = static_cast<std::size_t>(it - ids.begin());
-    return {.variant = variants[k], .training = training[k], .full = full[k]};
-  }
-};
-
-OwnBases own_bases_within_tolerances(const Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
-                                     const DiagnosisOptions& options) {
-  OwnBases own;
-  if (!d.tolerance.variant) return own;
-  own.ids = requested_effects(options);
-  for (const EffectId& id : own.ids)
-    own.variants.push_back(within_tolerances_without(problem, nominal, options, d.tolerance, std::span(&id, 1), {}));
-  own.training.resize(own.ids.size());
-  own.full.resize(own.ids.size());
-  parallel_for(static_cast<int>(own.ids.size()), options.jobs, [&](int i) {
-    const auto k = static_cast<std::size_t>(i);
-    own.training[k] = problem.evaluate(own.variants[k], true);
-    own.full[k] = problem.evaluate(own.variants[k], false);
-  });
-  return own;
-}
-
 Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, ReplayEngine& engine,
                    const DiagnosisOptions& options) {
   Diagnosis d;
@@ -639,15 +706,21 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     d.corrected.emplace(*beyond_tolerance_model(d, options));
     d.corrected_predictions = problem.evaluate(*d.corrected, false);
   } else {
-    // The base the effects are fitted from: the nominal as placed, or within its tolerances where asked and fitted.
-    const OwnBases own = options.effects_within_tolerances && any_gap
-                             ? own_bases_within_tolerances(d, problem, nominal, options)
-                             : OwnBases{};
-    const auto base_of = [&](EffectId id) { return own.of(id, reference); };
-    d.effects = fit_each_effect(problem, base_of, nominal_device, options);
-    const BaseModel base = d.effects.empty() ? reference : base_of(d.effects.front().id);  // the leader's
-    Combination combination =
-        combine_greedily(problem, d.effects, base.variant, base.training, base.full, nominal_device, options);
+    // The bases the effects are fitted from (EffectBase): the nominal as placed, within its tolerances (where they
+    // were fitted), or both; the combination grows from its leader's.
+    const bool within = options.effect_base != EffectBase::kAsPlaced;
+    const OwnBases own = within && any_gap ? own_bases_within_tolerances(d, problem, nominal, options) : OwnBases{};
+    const EffectBases bases{
+        .as_placed = reference, .own = own, .as_placed_too = options.effect_base != EffectBase::kWithinTolerances};
+    d.effects = fit_each_effect(problem, bases, nominal_device, options);
+    const BaseModel base = d.effects.empty() ? reference : bases.of(d.effects.front());  // the leader's
+    WithoutOwnTolerances without_own;
+    if (!d.effects.empty() && d.effects.front().within_tolerances) {
+      without_own = [&](std::span<const EffectId> ids) {
+        return within_tolerances_without(problem, nominal, options, d.tolerance, ids);
+      };
+    }
+    Combination combination = combine_greedily(problem, d.effects, base, without_own, nominal_device, options);
     if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
       combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
       combination.full = problem.evaluate(combination.model, false);

@@ -94,7 +94,9 @@ nlohmann::json to_json(const Diagnosis& d) {
                           {"train_error_before", f.train_error_before},
                           {"train_error_after", f.train_error_after},
                           {"evaluations", f.evaluations},
-                          {"extended", f.extended}};
+                          {"extended", f.extended},
+                          {"within_tolerances", f.within_tolerances},
+                          {"base_parameters", f.base_parameters}};
   };
   nlohmann::json j;
   j["verdict"] = d.verdict;

@@ -292,9 +292,8 @@ std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& f
     f.within_one_se_of_best = f.heldout_error_after <= fits[best].heldout_error_after + f.se_of_difference_to_best;
     if (!options.one_se_rule || !f.within_one_se_of_best) continue;
     const EffectFit& l = fits[leader];
-    if (f.values.size() < l.values.size() ||
-        (f.values.size() == l.values.size() && f.heldout_error_after < l.heldout_error_after))
-      leader = k;
+    const std::size_t fp = f.values.size() + f.base_parameters, lp = l.values.size() + l.base_parameters;
+    if (fp < lp || (fp == lp && f.heldout_error_after < l.heldout_error_after)) leader = k;
   }
   return leader;
 }

@@ -30,10 +30,10 @@ std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vect
 // The leader of a round of fits on one base model (an index into `fits`; fits.size() when none is applicable): with
 // `one_se_rule`, of the applicable fits whose held-out error the data do not tell from the lowest one's (within one
 // bootstrap standard error of the paired difference: the one-standard-error rule of Breiman, Friedman, Olshen & Stone
-// 1984, Sec. 3.4.3, and Hastie, Tibshirani & Friedman 2009, Sec. 7.10), the one with the fewest parameters, then the
-// lowest error; otherwise the lowest error. The held-out error already charges an effect for fitting noise; the rule
-// adds parsimony only among what the data cannot separate. Records each fit's standard error and whether it is
-// within one.
+// 1984, Sec. 3.4.3, and Hastie, Tibshirani & Friedman 2009, Sec. 7.10), the one with the fewest parameters (those
+// fitted into its base included, EffectFit::base_parameters), then the lowest error; otherwise the lowest error. The
+// held-out error already charges an effect for fitting noise; the rule adds parsimony only among what the data cannot
+// separate. Records each fit's standard error and whether it is within one.
 // Only fits that `eligible` accepts compete (all applicable ones when it is empty).
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
                             std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});

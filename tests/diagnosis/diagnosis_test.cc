@@ -258,7 +258,7 @@ TEST_F(DiagnosisTest, RankedBeyondTheTolerancesTheEffectLeadsWithItsWholeValue) 
   EXPECT_EQ(d.effects.front().name, "fpam_params");
 }
 
-// The experimental fit from the nominal within its tolerances (DiagnosisOptions::effects_within_tolerances): each
+// The fit from the nominal within its tolerances (EffectBase::kWithinTolerances): each
 // effect starts from the tolerance fit with its own tolerance parameters back at the nominal, so the same fPAM 10 %
 // narrower is named, fitted beyond its tolerance (on the whole tolerance fit, whose r0 went towards it, it would take
 // the rest only).
@@ -266,8 +266,8 @@ TEST_F(DiagnosisTest, FittedWithinTheTolerancesTheEffectIsNamedBeyondItsOwn) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const sim::DeviceDescription device = paper_device();
   write_synthetic_data(narrower_fpam_device(device), {.trajectory_s = 12.0}, dir_ / "real");
-  const Diagnosis d =
-      diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100, .effects_within_tolerances = true});
+  const Diagnosis d = diagnose(load_real_data(dir_ / "real"), device, engine_,
+                               {.bootstrap = 100, .effect_base = EffectBase::kWithinTolerances});
   ASSERT_EQ(d.verdict, "fpam_params") << d.reason;
   // Beyond its 3 % box, but not all the way: the other tolerances, held where their fit ended, took part of it when
   // the fPAM's own could not (r0 x 0.952 for the true 0.9; a joint refit, rank_beyond_tolerances, gets 0.9).
@@ -280,6 +280,38 @@ TEST_F(DiagnosisTest, FittedWithinTheTolerancesTheEffectIsNamedBeyondItsOwn) {
   const double within = fit_of(d, EffectId::kHysteresis).heldout_error_before;
   EXPECT_DOUBLE_EQ(fit_of(d, EffectId::kImuBias).heldout_error_before, within);
   EXPECT_LT(within, fit_of(d, EffectId::kFpamParams).heldout_error_before);
+}
+
+// The default (EffectBase::kBetterOfBoth): each effect fitted from the nominal as placed and from the nominal within
+// its tolerances, the fit that predicts the held-out data better kept. A device whose hand anchors and rest lengths
+// sit within their tolerances of the placement file, with a fabric hysteresis besides: fitted from the nominal as
+// placed, the hysteresis competes with the placement's scatter and the corrected model misses the held-out data by
+// 4.45 noise units; fitted within the tolerances, it takes what they leave, 1.58. (Its fraction comes out 0.026 for
+// the true 0.05 there, against 0.049 as placed: the relaxed wrist's damping, held at its tolerance's edge, took part
+// of the loss. Docs/diagnosis.md, Known limits.)
+TEST_F(DiagnosisTest, FromTheBetterOfBothBasesTheCorrectedModelPredictsBetter) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  const sim::DeviceDescription device = paper_device();
+  SyntheticDevice real{.device = device, .hysteresis = 0.05};
+  const double sign[] = {1.0, -1.0, -1.0, 1.0};
+  for (std::size_t i = 0; i < real.device.muscles.size(); ++i) {
+    real.device.muscles[i].placement.d2 += 0.0025 * sign[i];  // within the 3 mm anchor tolerance
+    real.device.muscles[i].rest_length -= 0.0015 * sign[i];   // within the 2 mm rest length tolerance
+  }
+  write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
+  const auto run_from = [&](EffectBase base) {
+    return diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100, .effect_base = base});
+  };
+  const Diagnosis as_placed = run_from(EffectBase::kAsPlaced), better = run_from(EffectBase::kBetterOfBoth);
+  ASSERT_EQ(as_placed.verdict, "hysteresis") << as_placed.reason;
+  ASSERT_EQ(better.verdict, "hysteresis") << better.reason;
+  const EffectFit& f = fit_of(better, EffectId::kHysteresis);
+  EXPECT_TRUE(f.within_tolerances);
+  EXPECT_EQ(f.base_parameters, better.tolerance.params.size());
+  EXPECT_FALSE(fit_of(as_placed, EffectId::kHysteresis).within_tolerances);
+  EXPECT_GT(param(f, "fraction"), 0.0);
+  EXPECT_LT(better.heldout_corrected, 0.6 * as_placed.heldout_corrected)
+      << better.heldout_corrected << " against " << as_placed.heldout_corrected;
 }
 
 // A regulator's dead time and an IMU's latency delay the replayed angles alike; the measured pressures

@@ -89,6 +89,19 @@ TEST_F(LeaderOfRound, WhatTheDataCannotSeparateGoesToTheSimplerEffect) {
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), best);
 }
 
+// A fit from the nominal within its tolerances carries the tolerance fit's parameters (EffectFit::base_parameters):
+// between what the data cannot separate, a fit from the nominal as placed leads, however few parameters the other
+// effect has of its own.
+TEST_F(LeaderOfRound, TheBasesParametersCountInTheRule) {
+  const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
+  const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
+  std::vector<EffectFit> fits = {fit("as placed", 4, sums(0.8, 0.3, pairs)),
+                                 fit("within the tolerances", 1, sums(0.8, 0.3, alternate))};
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);  // as the test above: the one-parameter effect
+  fits[1].base_parameters = 31;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
+}
+
 TEST_F(LeaderOfRound, NoneApplicableIsNoLeader) {
   std::vector<EffectFit> fits = {fit("a", 1, sums(0.5, 0.1))};
   fits[0].applicable = false;
