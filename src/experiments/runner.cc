@@ -49,10 +49,16 @@ class Progress {
   int last_decile_ = -1;
 };
 
+// Written to a scratch file renamed over summary.json: its presence marks a finished run (resume refuses one), so a
+// kill during the write must not leave a summary cut short.
 void write_summary(const std::filesystem::path& out, const nlohmann::json& summary) {
-  std::ofstream file(out / "summary.json");
-  file << summary.dump(2) << '\n';
-  if (!file) throw std::runtime_error((out / "summary.json").string() + ": cannot write");
+  const auto scratch = out / "summary.json.writing";
+  {
+    std::ofstream file(scratch);
+    file << summary.dump(2) << '\n';
+    if (!file) throw std::runtime_error((out / "summary.json").string() + ": cannot write");
+  }
+  std::filesystem::rename(scratch, out / "summary.json");
 }
 
 // The cases that have rows in `log`, in the order they appear.
