@@ -19,6 +19,7 @@
 
 extern "C" {
 #include <avr_adc.h>
+#include <avr_extint.h>
 #include <avr_ioport.h>
 #include <avr_twi.h>
 #include <avr_uart.h>
@@ -39,7 +40,7 @@ namespace {
 constexpr std::uint64_t kCyclesPerMs = kAvrClockHz / 1000;
 
 // ATmega328P data-space addresses (datasheet, Register Summary) of what the board's outputs are read from.
-constexpr int kDdrB = 0x24, kPortB = 0x25, kDdrD = 0x2A, kPortD = 0x2B;
+constexpr int kDdrB = 0x24, kPortB = 0x25, kDdrD = 0x2A, kPortD = 0x2B, kEimsk = 0x3D;
 constexpr int kTccr0A = 0x44, kOcr0A = 0x47, kOcr0B = 0x48, kTccr1A = 0x80, kOcr1AL = 0x88, kTccr2A = 0xB0,
               kOcr2B = 0xB4;
 
@@ -214,6 +215,16 @@ struct AvrBoard::Impl {
     wire_uart();
     wire_twi();
     set_safety_switch(false);
+    external_interrupts_on_edges();
+  }
+
+  // simavr polls INT0 and INT1 (PD2, PD3) on every cycle while their pin is low, for their default low-level mode,
+  // whether or not the interrupt is enabled: pin 3 is a PWM output, low most of each period, and the poll took a
+  // sixth of the run's time (perf). The firmware enables neither (read_outputs() refuses one that does), so the
+  // poll can never raise anything. simavr turns it back on at every reset.
+  void external_interrupts_on_edges() {
+    avr_extint_set_strict_lvl_trig(avr, 0, 0);
+    avr_extint_set_strict_lvl_trig(avr, 1, 0);
   }
 
   void wire_uart() {
@@ -322,6 +333,7 @@ struct AvrBoard::Impl {
         stats.reset_ms.push_back(static_cast<std::uint32_t>(avr->cycle / kCyclesPerMs));
         last_loop_cycle = 0;
         release_hang();
+        external_interrupts_on_edges();
       }
       measure();
       if (state == cpu_Done || state == cpu_Crashed) {
@@ -367,6 +379,9 @@ struct AvrBoard::Impl {
   // The regulators' setpoints from the PWM pins (through the RC filter) and the valve.
   void read_outputs(double dt_s) {
     const auto bit = [this](int address, int b) { return (avr->data[address] >> b) & 1; };
+    if (avr->data[kEimsk] & 0x03) {
+      throw std::runtime_error("the firmware enabled INT0 or INT1, which the simulated board does not model");
+    }
     const bool valve_open = bit(kDdrD, kValveBit) && bit(kPortD, kValveBit);
     const double max_kpa = plant.max_pressure_kpa();
     const double alpha = bridge::pwm_filter_blend(dt_s, pwm_filter_time_constant_s);

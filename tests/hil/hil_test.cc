@@ -73,7 +73,7 @@ TEST(AvrBoard, RefusesAFileThatIsNotAvrFirmware) {
 }
 
 // The planar rehearsal with the paper's controller, through the firmware and on the emulator (the firmware's rules
-// in C++): the measured angles agree within the IMU's resolution and the PWM's 8 bits (measured: RMS 0.086 deg, 0.21
+// in C++): the measured angles agree within the IMU's resolution and the PWM's 8 bits (measured: RMS 0.093 deg, 0.21
 // before the emulator had the board's RC filter); and the loop's worst pass at 16 MHz with both IMUs and all four ADCs
 // read, and the stack, stay within budget.
 TEST(FirmwareInTheLoop, PlanarRehearsalMatchesTheEmulatorWithinBudgets) {
@@ -86,10 +86,10 @@ TEST(FirmwareInTheLoop, PlanarRehearsalMatchesTheEmulatorWithinBudgets) {
   const AngleDifference& d = run.angles;
   EXPECT_GT(d.rows, 1000U);
   EXPECT_LT(d.rms_deg, 0.5);
-  // The steps' responses: rise times within five control periods, overshoots within a percentage point (measured: 56
-  // ms apart on the first step, the same on the second; which step differs follows the phase of the firmware's 10 ms
-  // data period against the IMU's 100 Hz samples. At the 90 % crossing the angles differ by 0.1 deg while the wrist
-  // creeps at 1.5 deg/s. 0.11-0.13 s apart before the emulator's regulators saw the firmware's 8-bit PWM steps).
+  // The steps' responses: rise times within five control periods, overshoots within a percentage point (measured:
+  // 28 ms apart on the first step, the same on the second). Issue 21 asked one period, which this experiment cannot
+  // resolve: the 90 % crossing falls in the controller's slow creep, where the emulator's own rise time moves by a
+  // period for a 0.01 deg offset of its angles and by six for a 20 ms latency (docs/hil.md, measured).
   const auto steps = [](const fs::path& run_dir) {
     return nlohmann::json::parse(std::ifstream(run_dir / "summary.json"))["controllers"][0]["steps"];
   };
