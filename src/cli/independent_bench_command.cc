@@ -96,6 +96,27 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
   return o;
 }
 
+// The decision settings chosen from `runs` (db::calibrate_decisions), against the ones this build decides with.
+void write_calibration(const std::vector<db::IndependentRun>& runs, const std::string& file, std::ostream& err) {
+  const diagnosis::DiagnosisOptions defaults;
+  nlohmann::json record;
+  try {
+    record = db::calibrate_decisions(runs, {.explained_fraction = defaults.explained_fraction,
+                                            .pair_share = defaults.pair_share,
+                                            .contradiction_gap = defaults.contradiction_gap});
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--calibrate: ") + e.what());
+  }
+  std::ofstream(file) << record.dump(2) << "\n";
+  const nlohmann::json& c = record["chosen"];
+  err << fmt::format(
+      "calibration over {} cases: explained_fraction {:g}, pair_share {:g}, contradiction_gap {:g} (mean rate {:.3f}); "
+      "this build decides with {:g}, {:g}, {:g}; the record: {}\n",
+      record["cases"].get<int>(), c["explained_fraction"].get<double>(), c["pair_share"].get<double>(),
+      c["contradiction_gap"].get<double>(), c["objective"].get<double>(), defaults.explained_fraction,
+      defaults.pair_share, defaults.contradiction_gap, file);
+}
+
 }  // namespace
 
 void run_independent_bench(const IndependentBenchArguments& a, std::ostream& out, std::ostream& err) {
@@ -120,6 +141,7 @@ void run_independent_bench(const IndependentBenchArguments& a, std::ostream& out
     throw UsageError(e.what());
   }
   if (!a.out.empty()) std::ofstream(a.out) << summary.dump(2) << "\n";
+  if (!a.calibrate.empty()) write_calibration(runs, a.calibrate, err);
   if (a.json) {
     out << summary.dump(2) << "\n";
   } else {

@@ -732,10 +732,15 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     measure_leader_beyond_tolerance(d, problem, nominal, nominal_device, options);
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
-  decide_verdict(d, options);
   d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
-  unexplained_where_contradicted(d, options);
+  redecide(d, options);
   return d;
+}
+
+void redecide(Diagnosis& d, const DiagnosisOptions& options) {
+  d.also_effects.clear();
+  decide_verdict(d, options);
+  unexplained_where_contradicted(d, options);
 }
 
 }  // namespace softwrist::diagnosis

@@ -229,6 +229,12 @@ struct Diagnosis {
 Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal, ReplayEngine& engine,
                    const DiagnosisOptions& options);
 
+// Decides `d`'s verdict (with its reason and also_effects) again under other decision settings: explained_fraction,
+// pair_share and contradiction_gap of `options`; nothing is fitted again. What the calibration of those settings
+// weighs (diagnose-bench, experiments/diagnosis_calibration/). Exact for an explained_fraction up to the one `d` was
+// diagnosed with: the leading effect is fitted jointly with the tolerances only where it explains less than that.
+void redecide(Diagnosis& d, const DiagnosisOptions& options);
+
 // diagnosis.json: {"verdict", "reason", "error_metric", "effects": [...], "combination": [...], "localization": [...],
 // "trials": [...], "skipped": [...]}.
 nlohmann::json to_json(const Diagnosis& diagnosis);

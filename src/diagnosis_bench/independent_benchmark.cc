@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <type_traits>
 
@@ -144,8 +145,23 @@ IndependentRun run_case(const IndependentCase& c, const IndependentBenchOptions&
     run.magnitude_noise_units = truth.magnitude_noise_units;
     import_dataset(dir / "data", dir / "real", options.rigs);
     diagnosis::ReplayEngine engine(sim::PluginSet::Default());
-    const diagnosis::Diagnosis d =
-        diagnosis::diagnose(diagnosis::load_real_data(dir / "real"), nominal, engine, options.diagnosis);
+    // Diagnosed with the grid's largest explained_fraction, so that each setting's decision is exact (redecide()),
+    // then decided with the run's own settings and on the grid.
+    diagnosis::DiagnosisOptions diagnosed_with = options.diagnosis;
+    for (const DecisionSettings& g : decision_grid())
+      diagnosed_with.explained_fraction = std::max(diagnosed_with.explained_fraction, g.explained_fraction);
+    diagnosis::Diagnosis d =
+        diagnosis::diagnose(diagnosis::load_real_data(dir / "real"), nominal, engine, diagnosed_with);
+    for (const DecisionSettings& g : decision_grid()) {
+      diagnosis::Diagnosis decided = d;
+      diagnosis::DiagnosisOptions o = options.diagnosis;
+      o.explained_fraction = g.explained_fraction;
+      o.pair_share = g.pair_share;
+      o.contradiction_gap = g.contradiction_gap;
+      diagnosis::redecide(decided, o);
+      run.by_setting.push_back({.settings = g, .verdict = decided.verdict, .also_effects = decided.also_effects});
+    }
+    diagnosis::redecide(d, options.diagnosis);
     run.verdict = d.verdict;
     run.leading_effect = d.leading_effect;
     run.also_effects = d.also_effects;
@@ -190,7 +206,20 @@ nlohmann::json detection_curve(const std::vector<IndependentRun>& runs) {
   return curve;
 }
 
+nlohmann::json settings_json(const DecisionSettings& g) {
+  return {{"explained_fraction", g.explained_fraction},
+          {"pair_share", g.pair_share},
+          {"contradiction_gap", g.contradiction_gap}};
+}
+
 nlohmann::json run_json(const IndependentRun& r) {
+  nlohmann::json by_setting = nlohmann::json::array();
+  for (const SettingVerdict& v : r.by_setting) {
+    nlohmann::json entry = settings_json(v.settings);
+    entry["verdict"] = v.verdict;
+    entry["also_effects"] = v.also_effects;
+    by_setting.push_back(entry);
+  }
   return {{"case", r.case_name},
           {"category", category_name(r.category)},
           {"seed", r.seed},
@@ -206,10 +235,107 @@ nlohmann::json run_json(const IndependentRun& r) {
           {"gap_closed", r.gap_closed},
           {"magnitude_noise_units", r.magnitude_noise_units},
           {"wall_s", r.wall_s},
-          {"error", r.error}};
+          {"error", r.error},
+          {"by_setting", by_setting}};
+}
+
+std::vector<SettingVerdict> settings_verdicts_from_json(const nlohmann::json& list, const std::string& source,
+                                                        std::size_t run) {
+  std::vector<SettingVerdict> verdicts;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    io::JsonReader e(list[k], source, fmt::format("runs[{}].by_setting[{}]", run, k));
+    SettingVerdict v{.settings = {.explained_fraction = e.number("explained_fraction"),
+                                  .pair_share = e.number("pair_share"),
+                                  .contradiction_gap = e.number("contradiction_gap")},
+                     .verdict = e.text("verdict")};
+    try {
+      v.also_effects = e.raw("also_effects").get<std::vector<std::string>>();
+    } catch (const nlohmann::json::exception&) {
+      e.fail("also_effects", "must be a list of names");
+    }
+    e.finish();
+    verdicts.push_back(std::move(v));
+  }
+  return verdicts;
+}
+
+bool same_settings(const DecisionSettings& a, const DecisionSettings& b) {
+  return a.explained_fraction == b.explained_fraction && a.pair_share == b.pair_share &&
+         a.contradiction_gap == b.contradiction_gap;
+}
+
+// How far a setting lies from another, each setting in units of its grid step (the ties' rule).
+double settings_distance(const DecisionSettings& a, const DecisionSettings& b) {
+  return std::abs(a.explained_fraction - b.explained_fraction) / 0.1 + std::abs(a.pair_share - b.pair_share) / 0.1 +
+         std::abs(a.contradiction_gap - b.contradiction_gap) / 0.5;
 }
 
 }  // namespace
+
+std::vector<DecisionSettings> decision_grid() {
+  std::vector<DecisionSettings> grid;
+  for (double explained : {0.4, 0.5, 0.6, 0.7}) {
+    for (double pair : {0.2, 0.3, 0.4}) {
+      for (double contradiction : {1.5, 2.0, 3.0}) grid.push_back({explained, pair, contradiction});
+    }
+  }
+  return grid;
+}
+
+nlohmann::json calibrate_decisions(const std::vector<IndependentRun>& runs, const DecisionSettings& current) {
+  const std::vector<DecisionSettings> grid = decision_grid();
+  std::set<std::uint64_t> seeds;
+  for (const IndependentRun& r : runs) {
+    seeds.insert(r.seed);
+    if (!r.error.empty()) continue;
+    bool same = r.by_setting.size() == grid.size();
+    for (std::size_t k = 0; same && k < grid.size(); ++k) same = same_settings(r.by_setting[k].settings, grid[k]);
+    if (!same)
+      throw std::invalid_argument(fmt::format(
+          "{} (seed {}) was not decided on this build's grid of settings (a run from before the grid existed?)",
+          r.case_name, r.seed));
+  }
+  nlohmann::json settings = nlohmann::json::array();
+  std::size_t best = 0;
+  double best_objective = -1.0;
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    std::vector<IndependentRun> decided = runs;
+    for (IndependentRun& r : decided) {
+      if (!r.error.empty()) continue;
+      r.verdict = r.by_setting[k].verdict;
+      r.also_effects = r.by_setting[k].also_effects;
+    }
+    const nlohmann::json counts = summarize(decided)["counts"];
+    nlohmann::json entry = settings_json(grid[k]);
+    double sum = 0.0;
+    int categories = 0;
+    for (const char* category : {"single", "none", "outside", "pairs"}) {
+      entry[category] = counts[category]["rate"];
+      if (counts[category]["cases"] == 0) continue;
+      sum += counts[category]["rate"].get<double>();
+      ++categories;
+    }
+    const double objective = categories > 0 ? sum / categories : 0.0;
+    entry["objective"] = objective;
+    settings.push_back(entry);
+    const bool better = objective > best_objective + 1e-12;
+    const bool tie = std::abs(objective - best_objective) <= 1e-12;
+    if (better || (tie && settings_distance(grid[k], current) < settings_distance(grid[best], current))) {
+      best = k;
+      best_objective = objective;
+    }
+  }
+  nlohmann::json record;
+  record["seeds"] = seeds;
+  record["cases"] = runs.size();
+  record["objective"] =
+      "mean of the rates of the single catalogue forms named, none on the nominal device, unexplained on the outside "
+      "forms and the pairs' larger effect named (a category without cases left out); ties to the nearest to current";
+  record["settings"] = settings;
+  record["chosen"] = settings[best];
+  record["current"] = settings_json(current);
+  return record;
+}
 
 std::string IndependentCase::name() const {
   if (forms.empty()) return "none";
@@ -371,6 +497,11 @@ std::vector<IndependentRun> runs_from_json(const nlohmann::json& summary, const 
     list_of("forms", run.forms);
     list_of("levels", run.levels);
     list_of("also_effects", run.also_effects);
+    if (r.has("by_setting")) {
+      const nlohmann::json& grid = r.raw("by_setting");
+      if (!grid.is_array()) r.fail("by_setting", "must be a list");
+      run.by_setting = settings_verdicts_from_json(grid, source, i);
+    }
     r.finish();
     runs.push_back(std::move(run));
   }

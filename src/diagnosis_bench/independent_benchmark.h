@@ -57,6 +57,21 @@ struct IndependentBenchOptions {
   static std::vector<std::pair<std::string, std::string>> default_pairs();
 };
 
+// The verdict's decision settings (DiagnosisOptions: explained_fraction, pair_share, contradiction_gap), calibrated
+// on seeds apart from the reported ones (experiments/diagnosis_calibration/).
+struct DecisionSettings {
+  double explained_fraction = 0.0, pair_share = 0.0, contradiction_gap = 0.0;
+};
+// The grid each run is decided on besides its own settings: every combination of explained_fraction 0.4-0.7,
+// pair_share 0.2-0.4 and contradiction_gap 1.5-3 noise units, around the catalogue-calibrated 0.6, 0.3 and 2.
+std::vector<DecisionSettings> decision_grid();
+
+struct SettingVerdict {
+  DecisionSettings settings;
+  std::string verdict;
+  std::vector<std::string> also_effects;
+};
+
 struct IndependentRun {
   std::string case_name;
   CaseCategory category{};
@@ -72,6 +87,7 @@ struct IndependentRun {
   double magnitude_noise_units = 0.0;  // truth.json: the largest effect over the noise in any file
   double wall_s = 0.0;
   std::string error;  // set when the case could not be run; such a case is counted apart, never as right
+  std::vector<SettingVerdict> by_setting;  // the same diagnosis decided on each of decision_grid()
 
   bool correct() const { return error.empty() && verdict == expected; }
 };
@@ -90,6 +106,14 @@ nlohmann::json summarize(const std::vector<IndependentRun>& runs);
 
 // A summary's runs read back (softwrist diagnose-bench --merge): errors name the file and the field.
 std::vector<IndependentRun> runs_from_json(const nlohmann::json& summary, const std::string& source);
+
+// The decision settings chosen from calibration runs (seeds apart from the reported ones): each setting of the runs'
+// grid scored as summarize() scores the runs, by the mean of its four rates (top-1, none, unexplained over outside
+// forms, the pairs' larger effect named; a category without cases left out); the best chosen, ties going to the
+// setting nearest `current` (each setting's distance summed in units of its grid step). Returns the record
+// experiments/diagnosis_calibration/ keeps: {"seeds", "cases", "objective", "settings": [...], "chosen", "current"}.
+// Throws std::invalid_argument for runs without a grid (from before it existed) or with differing grids.
+nlohmann::json calibrate_decisions(const std::vector<IndependentRun>& runs, const DecisionSettings& current);
 
 // The targets on the independent generator.
 inline constexpr double kTop1Target = 0.9, kTop1LowerBoundTarget = 0.8, kNoneTarget = 0.9, kUnexplainedTarget = 0.8,

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/run_cli_for_test.h"
+#include "diagnosis_bench/independent_benchmark.h"
 #include "support/end_to_end_test.h"
 #include "support/scratch_dir_test.h"
 
@@ -97,6 +98,7 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
       {{"diagnose-bench", "--effect-base", "halfway"}, 2, "--effect-base: 'halfway' is none of better"},
       {{"diagnose-bench", "--generator", "mirror"}, 2, "'mirror' is neither catalogue nor independent"},
       {{"diagnose-bench", "--shard", "1/2"}, 2, "--shard needs --generator independent"},
+      {{"diagnose-bench", "--calibrate", empty}, 2, "--calibrate needs --generator independent"},
       {{"diagnose-bench", "--generator", "independent", "--variation", "2"}, 2, "--variation is the catalogue"},
       {{"diagnose-bench", "--generator", "independent", "--forms", "nonsense", "--prototype", prototype, "--torque-rig",
         torque_rig},
@@ -170,6 +172,15 @@ TEST_F(CliDiagnose, IndependentBenchmarkRunsShardsAndMerges) {
   for (const char* key : {"top1_ci95", "none_correct_rate_ci95", "unexplained_correct_rate_ci95",
                           "pairs_primary_correct_rate", "detection_curve"})
     EXPECT_TRUE(summary.contains(key)) << key;
+  // The run was decided on the grid of settings too; the calibration from it keeps the settings this build uses,
+  // every one of which names the nominal device `none`.
+  EXPECT_EQ(summary["runs"][0]["by_setting"].size(), diagnosis_bench::decision_grid().size());
+  const auto calibrated = run({"diagnose-bench", "--generator", "independent", "--merge",
+                               (dir_ / "shard1.json").string(), "--calibrate", (dir_ / "calibration.json").string()});
+  ASSERT_EQ(calibrated.code, 0) << calibrated.err;
+  const auto record = nlohmann::json::parse(std::ifstream(dir_ / "calibration.json"));
+  EXPECT_EQ(record["chosen"]["none"], 1.0);
+  EXPECT_EQ(record["chosen"]["explained_fraction"], record["current"]["explained_fraction"]);
   const auto twice = run({"diagnose-bench", "--generator", "independent", "--merge", (dir_ / "shard1.json").string(),
                           (dir_ / "shard1.json").string()});
   EXPECT_EQ(twice.code, 2);

@@ -143,5 +143,59 @@ TEST(RunsFromJson, BadRunsNameTheFileAndTheField) {
   }
 }
 
+// Each run decided on the grid: the right verdict only at explained_fraction 0.5 for the single form that the example
+// gets wrong at its own settings, everything else as decided.
+std::vector<IndependentRun> decided_on_the_grid() {
+  std::vector<IndependentRun> runs = example_runs();
+  for (IndependentRun& r : runs) {
+    if (!r.error.empty()) continue;
+    for (const DecisionSettings& g : decision_grid()) {
+      const bool right_here = r.index == 2 && g.explained_fraction == 0.5;
+      r.by_setting.push_back(
+          {.settings = g, .verdict = right_here ? r.expected : r.verdict, .also_effects = r.also_effects});
+    }
+  }
+  return runs;
+}
+
+TEST(CalibrateDecisions, ChoosesTheBestSettingAndBreaksTiesTowardsTheCurrent) {
+  const DecisionSettings current{.explained_fraction = 0.6, .pair_share = 0.3, .contradiction_gap = 2.0};
+  const nlohmann::json record = calibrate_decisions(decided_on_the_grid(), current);
+  EXPECT_EQ(record["settings"].size(), decision_grid().size());
+  EXPECT_EQ(record["cases"], 6);
+  // Every setting with explained_fraction 0.5 gets both singles right (mean of four rates 1.0, against 0.875); of
+  // those, the nearest to the current one.
+  EXPECT_DOUBLE_EQ(record["chosen"]["explained_fraction"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(record["chosen"]["pair_share"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(record["chosen"]["contradiction_gap"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(record["chosen"]["objective"].get<double>(), 1.0);
+  for (const auto& s : record["settings"]) {
+    if (s["explained_fraction"] != 0.5) {
+      EXPECT_DOUBLE_EQ(s["objective"].get<double>(), 0.875) << s.dump();
+    }
+  }
+  // Where every setting ties, the current one stays.
+  std::vector<IndependentRun> ties = decided_on_the_grid();
+  for (auto& r : ties) {
+    for (auto& v : r.by_setting) v.verdict = r.verdict;
+  }
+  EXPECT_DOUBLE_EQ(calibrate_decisions(ties, current)["chosen"]["explained_fraction"].get<double>(), 0.6);
+}
+
+TEST(CalibrateDecisions, RunsWithoutTheGridAreRefusedAndTheGridSurvivesAMerge) {
+  EXPECT_THROW(calibrate_decisions(example_runs(), {}), std::invalid_argument);
+  const std::vector<IndependentRun> runs = decided_on_the_grid();
+  const std::vector<IndependentRun> back = runs_from_json(summarize(runs), "calibration.json");
+  EXPECT_EQ(calibrate_decisions(back, {}), calibrate_decisions(runs, {}));
+  nlohmann::json s = summarize(runs);
+  s["runs"][1]["by_setting"][3].erase("verdict");
+  try {
+    runs_from_json(s, "calibration.json");
+    FAIL() << "a grid entry without a verdict was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("calibration.json: runs[1].by_setting[3].verdict: missing"));
+  }
+}
+
 }  // namespace
 }  // namespace softwrist::diagnosis_bench
