@@ -163,18 +163,13 @@ OwnBases own_bases_within_tolerances(const Diagnosis& d, const GapProblem& probl
 }
 
 // The bases the effects are fitted from: the nominal as placed, its own base within the tolerances (OwnBases), or
-// both, the fit with the lower held-out error kept (EffectBase::kBetterOfBoth).
+// both, the fit with the lower held-out error kept (EffectBase::kBetterOfBoth). The bases within the tolerances are
+// made only when fits need them (fit_each_effect).
 struct EffectBases {
   const BaseModel& as_placed;
-  const OwnBases& own;  // empty: from the nominal as placed only
+  std::function<OwnBases()> make_own;  // empty: from the nominal as placed only
   bool as_placed_too = true;
-  // The bases to fit `id` from, each with whether it is the one within the tolerances.
-  std::vector<std::pair<BaseModel, bool>> of(EffectId id) const {
-    std::vector<std::pair<BaseModel, bool>> bases;
-    if (as_placed_too || own.ids.empty()) bases.emplace_back(as_placed, false);
-    if (!own.ids.empty()) bases.emplace_back(own.of(id, as_placed), true);
-    return bases;
-  }
+  OwnBases own;  // made by fit_each_effect where needed
   BaseModel of(const EffectFit& fit) const { return fit.within_tolerances ? own.of(fit.id, as_placed) : as_placed; }
 };
 
@@ -196,19 +191,10 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
   });
 }
 
-// Each effect alone on its bases (EffectBases), best first (applicable ones before the others). Of an effect fitted
-// from two bases, the one with the lower held-out error (as the effects are ranked, leader_of_round).
-std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const EffectBases& bases,
-                                       const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
-  const std::vector<EffectId> ids = requested_effects(options);
-  struct Task {
-    std::size_t effect;
-    std::size_t base;
-  };
-  std::vector<Task> tasks;
-  for (std::size_t k = 0; k < ids.size(); ++k) {
-    for (std::size_t b = 0; b < bases.of(ids[k]).size(); ++b) tasks.push_back({k, b});
-  }
+// Each of `ids` fitted from the nominal as placed, or from its own base within the tolerances.
+std::vector<EffectFit> fit_from_base(const GapProblem& problem, const std::vector<EffectId>& ids,
+                                     const EffectBases& bases, bool within,
+                                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   // Started longest first, so that the threads finish together (the last one started was the longest, 15 of the 25 s
   // on the paper's case): the most parameters searched, and last those that replay only the regulators. The fits are
   // independent and each keeps its own seed, so the order changes nothing else.
@@ -218,20 +204,51 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, const EffectBa
                                         : std::count_if(spec.parameters.begin(), spec.parameters.end(),
                                                         [](const ParameterSpec& p) { return !p.extension; });
   };
-  std::stable_sort(tasks.begin(), tasks.end(),
-                   [&](const Task& a, const Task& b) { return cost(ids[a.effect]) > cost(ids[b.effect]); });
-  std::vector<EffectFit> tried(tasks.size());
-  parallel_for(static_cast<int>(tasks.size()), options.jobs, [&](int i) {
-    const Task& task = tasks[static_cast<std::size_t>(i)];
-    const auto [base, within] = bases.of(ids[task.effect])[task.base];
-    EffectFit& fit = tried[static_cast<std::size_t>(i)];
-    fit = fit_effect(problem, ids[task.effect], base, nominal_device, options, options.seed + task.effect);
+  std::vector<std::size_t> order(ids.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost(ids[a]) > cost(ids[b]); });
+  std::vector<EffectFit> fits(ids.size());
+  parallel_for(static_cast<int>(order.size()), options.jobs, [&](int i) {
+    const std::size_t k = order[static_cast<std::size_t>(i)];
+    const BaseModel base = within ? bases.own.of(ids[k], bases.as_placed) : bases.as_placed;
+    EffectFit& fit = fits[k];
+    fit = fit_effect(problem, ids[k], base, nominal_device, options, options.seed + k);
     fit.within_tolerances = within;
     fit.base_parameters = within ? bases.own.parameters : 0;
   });
+  return fits;
+}
+
+// Whether one of `fits` leaves no gap: a held-out error below min_gap noise units.
+bool closes_the_gap(const std::vector<EffectFit>& fits, const DiagnosisOptions& options) {
+  return std::any_of(fits.begin(), fits.end(),
+                     [&](const EffectFit& f) { return f.applicable && f.heldout_error_after < options.min_gap; });
+}
+
+// Each effect alone on its bases (EffectBases), best first (applicable ones before the others). Of an effect fitted
+// from two bases, the one with the lower held-out error (as the effects are ranked, leader_of_round). Where an effect
+// from the nominal as placed already closes the gap, the bases within the tolerances are neither made nor fitted
+// from: the most they could do is close it too, at the price of a tolerance fit's parameters (the paper-sized set:
+// the mounts close it, and the second base would add half the replays).
+std::vector<EffectFit> fit_each_effect(const GapProblem& problem, EffectBases& bases,
+                                       const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+  const std::vector<EffectId> ids = requested_effects(options);
+  std::vector<EffectFit> tried;
+  if (bases.as_placed_too || !bases.make_own)
+    tried = fit_from_base(problem, ids, bases, false, nominal_device, options);
+  if (bases.make_own && !closes_the_gap(tried, options)) {
+    bases.own = bases.make_own();
+    if (!bases.own.ids.empty()) {
+      for (EffectFit& f : fit_from_base(problem, ids, bases, true, nominal_device, options))
+        tried.push_back(std::move(f));
+    } else if (tried.empty()) {
+      tried = fit_from_base(problem, ids, bases, false, nominal_device, options);  // no tolerances to fit within
+    }
+  }
   std::vector<std::optional<EffectFit>> best(ids.size());
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    std::optional<EffectFit>& b = best[tasks[i].effect];
+  for (std::size_t i = 0; i < tried.size(); ++i) {
+    std::optional<EffectFit>& b = best[i % ids.size()];
     if (!b || (tried[i].applicable && tried[i].heldout_error_after < b->heldout_error_after)) b = std::move(tried[i]);
   }
   std::vector<EffectFit> fits;
@@ -708,10 +725,9 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   } else {
     // The bases the effects are fitted from (EffectBase): the nominal as placed, within its tolerances (where they
     // were fitted), or both; the combination grows from its leader's.
-    const bool within = options.effect_base != EffectBase::kAsPlaced;
-    const OwnBases own = within && any_gap ? own_bases_within_tolerances(d, problem, nominal, options) : OwnBases{};
-    const EffectBases bases{
-        .as_placed = reference, .own = own, .as_placed_too = options.effect_base != EffectBase::kWithinTolerances};
+    EffectBases bases{.as_placed = reference, .as_placed_too = options.effect_base != EffectBase::kWithinTolerances};
+    if (options.effect_base != EffectBase::kAsPlaced && any_gap)
+      bases.make_own = [&] { return own_bases_within_tolerances(d, problem, nominal, options); };
     d.effects = fit_each_effect(problem, bases, nominal_device, options);
     const BaseModel base = d.effects.empty() ? reference : bases.of(d.effects.front());  // the leader's
     WithoutOwnTolerances without_own;
