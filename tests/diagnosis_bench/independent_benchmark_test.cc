@@ -4,6 +4,7 @@
 
 #include "diagnosis_bench/independent_benchmark.h"
 
+#include <fstream>
 #include <set>
 
 #include <gmock/gmock.h>
@@ -195,6 +196,22 @@ TEST(CalibrateDecisions, RunsWithoutTheGridAreRefusedAndTheGridSurvivesAMerge) {
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("calibration.json: runs[1].by_setting[3].verdict: missing"));
   }
+}
+
+// The defaults the diagnosis decides with are the ones chosen on the calibration seeds and frozen before the
+// reported run (experiments/diagnosis_calibration/README.md).
+TEST(IndependentBenchmark, DefaultsAreTheCalibratedSettings) {
+  const nlohmann::json record = nlohmann::json::parse(
+      std::ifstream(std::string(SOFTWRIST_SOURCE_DIR) + "/experiments/diagnosis_calibration/settings.json"));
+  const diagnosis::DiagnosisOptions defaults;
+  EXPECT_DOUBLE_EQ(defaults.explained_fraction, record.at("chosen").at("explained_fraction").get<double>());
+  EXPECT_DOUBLE_EQ(defaults.pair_share, record.at("chosen").at("pair_share").get<double>());
+  EXPECT_DOUBLE_EQ(defaults.contradiction_gap, record.at("chosen").at("contradiction_gap").get<double>());
+  // The record is the calibration's own output: the runs it was chosen from give it again.
+  const std::string runs_file = std::string(SOFTWRIST_SOURCE_DIR) + "/experiments/diagnosis_calibration/seed1001.json";
+  const std::vector<IndependentRun> runs = runs_from_json(nlohmann::json::parse(std::ifstream(runs_file)), runs_file);
+  const DecisionSettings before{.explained_fraction = 0.6, .pair_share = 0.3, .contradiction_gap = 2.0};
+  EXPECT_EQ(calibrate_decisions(runs, before)["chosen"], record.at("chosen"));
 }
 
 }  // namespace
