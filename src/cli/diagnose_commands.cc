@@ -344,8 +344,8 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   const bool independent = o.generator == "independent";
   if (!independent && o.generator != "catalogue")
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
-  for (const char* only : {"--shard", "--out", "--merge", "--calibrate", "--forms", "--no-pairs", "--min-level",
-                           "--torque-rig", "--prototype"}) {
+  for (const char* only : {"--shard", "--out", "--merge", "--calibrate", "--redecide", "--forms", "--no-pairs",
+                           "--min-level", "--torque-rig", "--prototype"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
@@ -445,6 +445,9 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
+  bench->add_flag("--redecide", b->independent.redecide,
+                  "independent, with --merge: decide each run again at this build's decision settings, from the "
+                  "verdicts its grid holds (runs diagnosed by an earlier build)");
   bench->add_option("--calibrate", b->independent.calibrate,
                     "independent: choose the verdict's decision settings from these runs (calibration seeds, apart "
                     "from the reported ones) and write the record to this file (experiments/diagnosis_calibration/)");

@@ -96,14 +96,20 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
   return o;
 }
 
+// The decision settings this build decides with (DiagnosisOptions' defaults).
+db::DecisionSettings build_settings() {
+  const diagnosis::DiagnosisOptions defaults;
+  return {.explained_fraction = defaults.explained_fraction,
+          .pair_share = defaults.pair_share,
+          .contradiction_gap = defaults.contradiction_gap};
+}
+
 // The decision settings chosen from `runs` (db::calibrate_decisions), against the ones this build decides with.
 void write_calibration(const std::vector<db::IndependentRun>& runs, const std::string& file, std::ostream& err) {
   const diagnosis::DiagnosisOptions defaults;
   nlohmann::json record;
   try {
-    record = db::calibrate_decisions(runs, {.explained_fraction = defaults.explained_fraction,
-                                            .pair_share = defaults.pair_share,
-                                            .contradiction_gap = defaults.contradiction_gap});
+    record = db::calibrate_decisions(runs, build_settings());
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--calibrate: ") + e.what());
   }
@@ -123,7 +129,15 @@ void run_independent_bench(const IndependentBenchArguments& a, std::ostream& out
   std::vector<db::IndependentRun> runs;
   if (!a.merge.empty()) {
     runs = merged_runs(a.merge);
+    if (a.redecide) {
+      try {
+        db::redecide_runs(runs, build_settings());
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--redecide: ") + e.what());
+      }
+    }
   } else {
+    if (a.redecide) throw UsageError("--redecide needs --merge");
     const db::IndependentBenchOptions o = bench_options(a);
     try {
       if (!a.json)

@@ -24,6 +24,7 @@ struct IndependentBenchArguments {
   std::string out;                 // write the summary (with its runs) here, for --merge
   std::vector<std::string> merge;  // summaries of shards to merge instead of running
   std::string calibrate;           // choose the decision settings from the runs; write the record here
+  bool redecide = false;           // merged runs decided again at this build's decision settings
   std::string torque_rig = "experiments/independent_device/torque_rig.json";
   std::string prototype = "experiments/independent_device/prototype.json";
   diagnosis::EffectBase effect_base = diagnosis::EffectBase::kBetterOfBoth;  // DiagnosisOptions::effect_base

@@ -337,6 +337,20 @@ nlohmann::json calibrate_decisions(const std::vector<IndependentRun>& runs, cons
   return record;
 }
 
+void redecide_runs(std::vector<IndependentRun>& runs, const DecisionSettings& settings) {
+  for (IndependentRun& r : runs) {
+    if (!r.error.empty()) continue;
+    const auto it = std::find_if(r.by_setting.begin(), r.by_setting.end(),
+                                 [&](const SettingVerdict& v) { return same_settings(v.settings, settings); });
+    if (it == r.by_setting.end())
+      throw std::invalid_argument(fmt::format(
+          "{} (seed {}) holds no verdict for explained_fraction {:g}, pair_share {:g}, contradiction_gap {:g}",
+          r.case_name, r.seed, settings.explained_fraction, settings.pair_share, settings.contradiction_gap));
+    r.verdict = it->verdict;
+    r.also_effects = it->also_effects;
+  }
+}
+
 std::string IndependentCase::name() const {
   if (forms.empty()) return "none";
   std::string name = forms[0];

@@ -115,6 +115,11 @@ std::vector<IndependentRun> runs_from_json(const nlohmann::json& summary, const 
 // Throws std::invalid_argument for runs without a grid (from before it existed) or with differing grids.
 nlohmann::json calibrate_decisions(const std::vector<IndependentRun>& runs, const DecisionSettings& current);
 
+// Each run's verdict (and also_effects) replaced by the one its grid holds for `settings`: what a build deciding with
+// them says of runs diagnosed by another (the fits do not depend on these settings). Throws std::invalid_argument
+// naming a run whose grid does not hold them.
+void redecide_runs(std::vector<IndependentRun>& runs, const DecisionSettings& settings);
+
 // The targets on the independent generator.
 inline constexpr double kTop1Target = 0.9, kTop1LowerBoundTarget = 0.8, kNoneTarget = 0.9, kUnexplainedTarget = 0.8,
                         kPairsTarget = 0.8, kGapClosedTarget = 0.7;

@@ -99,6 +99,7 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
       {{"diagnose-bench", "--generator", "mirror"}, 2, "'mirror' is neither catalogue nor independent"},
       {{"diagnose-bench", "--shard", "1/2"}, 2, "--shard needs --generator independent"},
       {{"diagnose-bench", "--calibrate", empty}, 2, "--calibrate needs --generator independent"},
+      {{"diagnose-bench", "--generator", "independent", "--redecide"}, 2, "--redecide needs --merge"},
       {{"diagnose-bench", "--generator", "independent", "--variation", "2"}, 2, "--variation is the catalogue"},
       {{"diagnose-bench", "--generator", "independent", "--forms", "nonsense", "--prototype", prototype, "--torque-rig",
         torque_rig},
@@ -181,6 +182,10 @@ TEST_F(CliDiagnose, IndependentBenchmarkRunsShardsAndMerges) {
   const auto record = nlohmann::json::parse(std::ifstream(dir_ / "calibration.json"));
   EXPECT_EQ(record["chosen"]["none"], 1.0);
   EXPECT_EQ(record["chosen"]["explained_fraction"], record["current"]["explained_fraction"]);
+  const auto redecided = run({"diagnose-bench", "--generator", "independent", "--json", "--merge",
+                              (dir_ / "shard1.json").string(), "--redecide"});
+  ASSERT_EQ(redecided.code, 0) << redecided.err;
+  EXPECT_EQ(nlohmann::json::parse(redecided.out)["runs"][0]["verdict"], summary["runs"][0]["verdict"]);
   const auto twice = run({"diagnose-bench", "--generator", "independent", "--merge", (dir_ / "shard1.json").string(),
                           (dir_ / "shard1.json").string()});
   EXPECT_EQ(twice.code, 2);

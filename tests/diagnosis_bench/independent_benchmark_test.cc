@@ -198,6 +198,20 @@ TEST(CalibrateDecisions, RunsWithoutTheGridAreRefusedAndTheGridSurvivesAMerge) {
   }
 }
 
+TEST(RedecideRuns, TakesEachRunsVerdictAtTheSettingsFromItsGrid) {
+  std::vector<IndependentRun> runs = decided_on_the_grid();
+  redecide_runs(runs, {.explained_fraction = 0.5, .pair_share = 0.2, .contradiction_gap = 3.0});
+  EXPECT_EQ(runs[2].verdict, "hysteresis");  // right only at 0.5
+  EXPECT_EQ(runs[1].verdict, "fpam_params");
+  EXPECT_EQ(runs[5].verdict, "");  // a run that failed keeps what it had
+  try {
+    redecide_runs(runs, {.explained_fraction = 0.55, .pair_share = 0.3, .contradiction_gap = 2.0});
+    FAIL() << "a setting off the grid was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("c0 (seed 1) holds no verdict for explained_fraction 0.55"));
+  }
+}
+
 // The defaults the diagnosis decides with are the ones chosen on the calibration seeds and frozen before the
 // reported run (experiments/diagnosis_calibration/README.md).
 TEST(IndependentBenchmark, DefaultsAreTheCalibratedSettings) {
