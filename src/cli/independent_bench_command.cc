@@ -113,7 +113,9 @@ void write_calibration(const std::vector<db::IndependentRun>& runs, const std::s
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--calibrate: ") + e.what());
   }
-  std::ofstream(file) << record.dump(2) << "\n";
+  std::ofstream record_file(file);
+  if (!(record_file << record.dump(2) << "\n"))
+    throw std::runtime_error(fmt::format("--calibrate: cannot write {}", file));
   const nlohmann::json& c = record["chosen"];
   err << fmt::format(
       "calibration over {} cases: explained_fraction {:g}, pair_share {:g}, contradiction_gap {:g} (mean rate {:.3f}); "

@@ -264,7 +264,7 @@ bool same_settings(const DecisionSettings& a, const DecisionSettings& b) {
          a.contradiction_gap == b.contradiction_gap;
 }
 
-// How far a setting lies from another, each setting in units of its grid step (the ties' rule).
+// How far a setting lies from another, in steps of 0.1, 0.1 and 0.5 noise units (the ties' rule).
 double settings_distance(const DecisionSettings& a, const DecisionSettings& b) {
   return std::abs(a.explained_fraction - b.explained_fraction) / 0.1 + std::abs(a.pair_share - b.pair_share) / 0.1 +
          std::abs(a.contradiction_gap - b.contradiction_gap) / 0.5;

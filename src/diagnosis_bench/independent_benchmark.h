@@ -110,7 +110,7 @@ std::vector<IndependentRun> runs_from_json(const nlohmann::json& summary, const 
 // The decision settings chosen from calibration runs (seeds apart from the reported ones): each setting of the runs'
 // grid scored as summarize() scores the runs, by the mean of its four rates (top-1, none, unexplained over outside
 // forms, the pairs' larger effect named; a category without cases left out); the best chosen, ties going to the
-// setting nearest `current` (each setting's distance summed in units of its grid step). Returns the record
+// setting nearest `current` (distances summed in steps of 0.1, 0.1 and 0.5 noise units). Returns the record
 // experiments/diagnosis_calibration/ keeps: {"seeds", "cases", "objective", "settings": [...], "chosen", "current"}.
 // Throws std::invalid_argument for runs without a grid (from before it existed) or with differing grids.
 nlohmann::json calibrate_decisions(const std::vector<IndependentRun>& runs, const DecisionSettings& current);
