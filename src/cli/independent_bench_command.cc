@@ -97,19 +97,14 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
 }
 
 // The decision settings this build decides with (DiagnosisOptions' defaults).
-db::DecisionSettings build_settings() {
-  const diagnosis::DiagnosisOptions defaults;
-  return {.explained_fraction = defaults.explained_fraction,
-          .pair_share = defaults.pair_share,
-          .contradiction_gap = defaults.contradiction_gap};
-}
+db::DecisionSettings build_settings() { return db::decision_settings(diagnosis::DiagnosisOptions{}); }
 
 // The decision settings chosen from `runs` (db::calibrate_decisions), against the ones this build decides with.
 void write_calibration(const std::vector<db::IndependentRun>& runs, const std::string& file, std::ostream& err) {
-  const diagnosis::DiagnosisOptions defaults;
+  const db::DecisionSettings current = build_settings();
   nlohmann::json record;
   try {
-    record = db::calibrate_decisions(runs, build_settings());
+    record = db::calibrate_decisions(runs, current);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--calibrate: ") + e.what());
   }
@@ -121,8 +116,8 @@ void write_calibration(const std::vector<db::IndependentRun>& runs, const std::s
       "calibration over {} cases: explained_fraction {:g}, pair_share {:g}, contradiction_gap {:g} (mean rate {:.3f}); "
       "this build decides with {:g}, {:g}, {:g}; the record: {}\n",
       record["cases"].get<int>(), c["explained_fraction"].get<double>(), c["pair_share"].get<double>(),
-      c["contradiction_gap"].get<double>(), c["objective"].get<double>(), defaults.explained_fraction,
-      defaults.pair_share, defaults.contradiction_gap, file);
+      c["contradiction_gap"].get<double>(), c["objective"].get<double>(), current.explained_fraction,
+      current.pair_share, current.contradiction_gap, file);
 }
 
 }  // namespace

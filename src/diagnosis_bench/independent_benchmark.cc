@@ -154,11 +154,7 @@ IndependentRun run_case(const IndependentCase& c, const IndependentBenchOptions&
         diagnosis::diagnose(diagnosis::load_real_data(dir / "real"), nominal, engine, diagnosed_with);
     for (const DecisionSettings& g : decision_grid()) {
       diagnosis::Diagnosis decided = d;
-      diagnosis::DiagnosisOptions o = options.diagnosis;
-      o.explained_fraction = g.explained_fraction;
-      o.pair_share = g.pair_share;
-      o.contradiction_gap = g.contradiction_gap;
-      diagnosis::redecide(decided, o);
+      diagnosis::redecide(decided, with_settings(options.diagnosis, g));
       run.by_setting.push_back({.settings = g, .verdict = decided.verdict, .also_effects = decided.also_effects});
     }
     diagnosis::redecide(d, options.diagnosis);
@@ -271,6 +267,19 @@ double settings_distance(const DecisionSettings& a, const DecisionSettings& b) {
 }
 
 }  // namespace
+
+DecisionSettings decision_settings(const diagnosis::DiagnosisOptions& options) {
+  return {.explained_fraction = options.explained_fraction,
+          .pair_share = options.pair_share,
+          .contradiction_gap = options.contradiction_gap};
+}
+
+diagnosis::DiagnosisOptions with_settings(diagnosis::DiagnosisOptions options, const DecisionSettings& settings) {
+  options.explained_fraction = settings.explained_fraction;
+  options.pair_share = settings.pair_share;
+  options.contradiction_gap = settings.contradiction_gap;
+  return options;
+}
 
 std::vector<DecisionSettings> decision_grid() {
   std::vector<DecisionSettings> grid;

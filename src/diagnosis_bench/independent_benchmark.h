@@ -62,6 +62,9 @@ struct IndependentBenchOptions {
 struct DecisionSettings {
   double explained_fraction = 0.0, pair_share = 0.0, contradiction_gap = 0.0;
 };
+// The decision settings `options` holds, and `options` with `settings` in their place.
+DecisionSettings decision_settings(const diagnosis::DiagnosisOptions& options);
+diagnosis::DiagnosisOptions with_settings(diagnosis::DiagnosisOptions options, const DecisionSettings& settings);
 // The grid each run is decided on besides its own settings: every combination of explained_fraction 0.4-0.7,
 // pair_share 0.2-0.4 and contradiction_gap 1.5-3 noise units, around the catalogue-calibrated 0.6, 0.3 and 2.
 std::vector<DecisionSettings> decision_grid();
