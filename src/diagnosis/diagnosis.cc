@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -170,6 +171,9 @@ struct EffectBases {
   std::function<OwnBases()> make_own;  // empty: from the nominal as placed only
   bool as_placed_too = true;
   OwnBases own;  // made by fit_each_effect where needed
+  // The searches from the nominal as placed, where they have run already (search_from_base: requested_effects'
+  // order).
+  std::optional<std::vector<EffectSearch>> as_placed_searches;
   BaseModel of(const EffectFit& fit) const { return fit.within_tolerances ? own.of(fit.id, as_placed) : as_placed; }
 };
 
@@ -191,13 +195,12 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
   });
 }
 
-// Each of `ids` fitted from the nominal as placed, or from its own base within the tolerances.
-std::vector<EffectFit> fit_from_base(const GapProblem& problem, const std::vector<EffectId>& ids,
-                                     const EffectBases& bases, bool within,
-                                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
-  // Started longest first, so that the threads finish together (the last one started was the longest, 15 of the 25 s
-  // on the paper's case): the most parameters searched, and last those that replay only the regulators. The fits are
-  // independent and each keeps its own seed, so the order changes nothing else.
+// Each of `ids` searched on its base (search_effect), in parallel. Started longest first, so that the threads finish
+// together (the last one started was the longest, 15 of the 25 s on the paper's case): the most parameters searched,
+// and last those that replay only the regulators. The searches are independent, so the order changes nothing else.
+std::vector<EffectSearch> search_from_base(const GapProblem& problem, const std::vector<EffectId>& ids,
+                                           const std::function<BaseModel(EffectId)>& base_of,
+                                           const DiagnosisOptions& options) {
   const auto cost = [&](EffectId id) {
     const EffectSpec& spec = effect_spec(id);
     return spec.through_regulators_only ? 0
@@ -208,15 +211,30 @@ std::vector<EffectFit> fit_from_base(const GapProblem& problem, const std::vecto
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return cost(ids[a]) > cost(ids[b]); });
-  std::vector<EffectFit> fits(ids.size());
+  std::vector<EffectSearch> searches(ids.size());
   parallel_for(static_cast<int>(order.size()), options.jobs, [&](int i) {
     const std::size_t k = order[static_cast<std::size_t>(i)];
-    const BaseModel base = within ? bases.own.of(ids[k], bases.as_placed) : bases.as_placed;
+    searches[k] = search_effect(problem, ids[k], base_of(ids[k]), options);
+  });
+  return searches;
+}
+
+// Each of `ids` fitted from the nominal as placed, or from its own base within the tolerances (searched here unless
+// bases.as_placed_searches holds the searches as placed).
+std::vector<EffectFit> fit_from_base(const GapProblem& problem, const std::vector<EffectId>& ids,
+                                     const EffectBases& bases, bool within,
+                                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+  const auto base_of = [&](EffectId id) { return within ? bases.own.of(id, bases.as_placed) : bases.as_placed; };
+  const std::vector<EffectSearch> searches = !within && bases.as_placed_searches
+                                                 ? *bases.as_placed_searches
+                                                 : search_from_base(problem, ids, base_of, options);
+  std::vector<EffectFit> fits(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) {
     EffectFit& fit = fits[k];
-    fit = fit_effect(problem, ids[k], base, nominal_device, options, options.seed + k);
+    fit = fit_effect(problem, ids[k], base_of(ids[k]), nominal_device, options, options.seed + k, &searches[k]);
     fit.within_tolerances = within;
     fit.base_parameters = within ? bases.own.parameters : 0;
-  });
+  }
   return fits;
 }
 
@@ -707,7 +725,19 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.localization = localize(d.prepared, residuals, nominal_device, options.alpha);
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full));
   d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha, options.min_gap);
+  const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
+  // The effects' searches from the nominal as placed read neither the tolerance fit nor the scored trials: they run
+  // while the tolerances are fitted, whose Levenberg-Marquardt steps, one replay each, leave a thread idle.
+  std::future<std::vector<EffectSearch>> as_placed_searches;
+  if (options.effect_base != EffectBase::kWithinTolerances && !options.rank_beyond_tolerances) {
+    as_placed_searches = std::async(std::launch::async, [&] {
+      return search_from_base(
+          problem, requested_effects(options), [&](EffectId) { return reference; }, options);
+    });
+  }
   check_within_tolerances(d, problem, nominal, trial_alpha, options);
+  std::optional<std::vector<EffectSearch>> searched_as_placed;  // joined before the scored trials are set
+  if (as_placed_searches.valid()) searched_as_placed = as_placed_searches.get();
 
   // Attribute, scored over the trials with a gap beyond the tolerances (a gap the nominal explains within them is no
   // effect's to close): beyond the tolerances where they were fitted and leave a gap; otherwise each effect alone
@@ -717,7 +747,6 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   const bool any_gap = std::any_of(gap_trials.begin(), gap_trials.end(), [](bool g) { return g; });
   if (any_gap) problem.set_scored(gap_trials);
   d.interval_informative = interval_informative(problem);
-  const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
   if (any_gap && !d.tolerance.params.empty() && options.rank_beyond_tolerances &&
       attribute_beyond_tolerances(d, problem, reference, nominal_device, trial_alpha, options)) {
     d.corrected.emplace(*beyond_tolerance_model(d, options));
@@ -726,6 +755,7 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
     // The bases the effects are fitted from (EffectBase): the nominal as placed, within its tolerances (where they
     // were fitted), or both; the combination grows from its leader's.
     EffectBases bases{.as_placed = reference, .as_placed_too = options.effect_base != EffectBase::kWithinTolerances};
+    bases.as_placed_searches = std::move(searched_as_placed);
     if (options.effect_base != EffectBase::kAsPlaced && any_gap)
       bases.make_own = [&] { return own_bases_within_tolerances(d, problem, nominal, options); };
     d.effects = fit_each_effect(problem, bases, nominal_device, options);

@@ -63,6 +63,12 @@ struct SearchedPoint {
   double training_error = 0.0;
 };
 
+// A fit's training residuals over the unit cube, from fine replays (every value compared) and from coarse ones (a
+// Jacobian's differences only: Fidelity).
+struct Residuals {
+  optimize::ResidualFunction fine, coarse;
+};
+
 // The polish's budget: n + 1 replays per Levenberg-Marquardt iteration, so a larger effect gets a larger one, 15
 // evaluations per parameter beyond two.
 int search_budget(int max_evaluations, std::size_t parameters) {
@@ -82,34 +88,54 @@ std::vector<std::size_t> parameter_indices(const EffectSpec& spec, bool extensio
 // squares, and its Gauss-Newton model follows the valleys where one parameter trades against another (the fPAM's
 // fabric against its r0): BOBYQA, which models the error as a quadratic from 2n + 1 samples, spent its whole budget of
 // 80 replays in that valley and stopped at a training error 2.5 times the one this reaches in 31.
-SearchedPoint polish(const optimize::ResidualFunction& residuals, const SearchedPoint& from, int max_evaluations) {
+SearchedPoint polish(const Residuals& residuals, const SearchedPoint& from, int max_evaluations) {
   if (!(from.training_error < kInfeasible)) return from;  // nowhere feasible to start from
   const std::size_t n = from.u.size();
   const optimize::LeastSquaresResult found =
-      optimize::minimize_least_squares(residuals, from.u,
+      optimize::minimize_least_squares(residuals.fine, from.u,
                                        {.lower = std::vector<double>(n, 0.0),
                                         .upper = std::vector<double>(n, 1.0),
                                         .max_evaluations = max_evaluations,
-                                        .jobs = 1});  // the effects are fitted in parallel already
+                                        .jobs = 1,  // the effects are fitted in parallel already
+                                        .difference_residuals = residuals.coarse});
   if (!(found.cost <= from.training_error)) return from;
   return {.u = found.x, .training_error = found.cost};
 }
 
-// The fit's search: the start (the effect's own starting values), the grid, then the polish from the best of them.
-SearchedPoint search_unit_cube(const optimize::ResidualFunction& residuals, std::vector<double> start_u,
-                               int max_evaluations) {
-  SearchedPoint best{.u = std::move(start_u), .training_error = 0.0};
-  best.training_error = sum_of_squares_or_infeasible(residuals(best.u));
-  for (const std::vector<double>& u : start_grid(best.u.size())) {
-    const double value = sum_of_squares_or_infeasible(residuals(u));
+// The best of `candidates` (the first of equals): ranked on coarse replays, and the first of that ranking evaluated on
+// fine ones (Fidelity). The candidates lie far apart (a start grid), further than the coarse step's error moves a
+// training error; a coarse replay costs a quarter of a fine one. Every candidate is evaluated fine where no coarse
+// replay is feasible or the fine one of the first fails.
+SearchedPoint best_of(const Residuals& residuals, const std::vector<std::vector<double>>& candidates) {
+  std::size_t first = candidates.size();
+  double first_coarse = kInfeasible;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const double value = sum_of_squares_or_infeasible(residuals.coarse(candidates[i]));
+    if (value < first_coarse) std::tie(first, first_coarse) = std::pair(i, value);
+  }
+  if (first < candidates.size()) {
+    SearchedPoint point{.u = candidates[first],
+                        .training_error = sum_of_squares_or_infeasible(residuals.fine(candidates[first]))};
+    if (point.training_error < kInfeasible) return point;
+  }
+  SearchedPoint best{.u = candidates.front(), .training_error = kInfeasible};
+  for (const std::vector<double>& u : candidates) {
+    const double value = sum_of_squares_or_infeasible(residuals.fine(u));
     if (value < best.training_error) best = {.u = u, .training_error = value};
   }
-  return polish(residuals, best, max_evaluations);
+  return best;
+}
+
+// The fit's search: the best of the start (the effect's own starting values) and the grid, then the polish from it.
+SearchedPoint search_unit_cube(const Residuals& residuals, std::vector<double> start_u, int max_evaluations) {
+  std::vector<std::vector<double>> candidates{std::move(start_u)};
+  for (std::vector<double>& u : start_grid(candidates.front().size())) candidates.push_back(std::move(u));
+  return polish(residuals, best_of(residuals, candidates), max_evaluations);
 }
 
 // The base form's search (fit_effect): the parameters `base_indices` from the start, the grid and the polish, the
 // others held at their starting values.
-SearchedPoint search_base_form(const optimize::ResidualFunction& residuals, const std::vector<double>& start_u,
+SearchedPoint search_base_form(const Residuals& residuals, const std::vector<double>& start_u,
                                const std::vector<std::size_t>& base_indices, int max_evaluations) {
   const auto expand = [&](std::span<const double> reduced) {
     std::vector<double> u = start_u;
@@ -118,8 +144,10 @@ SearchedPoint search_base_form(const optimize::ResidualFunction& residuals, cons
   };
   std::vector<double> reduced_start;
   for (const std::size_t i : base_indices) reduced_start.push_back(start_u[i]);
-  SearchedPoint found = search_unit_cube([&](std::span<const double> r) { return residuals(expand(r)); },
-                                         std::move(reduced_start), search_budget(max_evaluations, base_indices.size()));
+  const Residuals reduced{.fine = [&](std::span<const double> r) { return residuals.fine(expand(r)); },
+                          .coarse = [&](std::span<const double> r) { return residuals.coarse(expand(r)); }};
+  SearchedPoint found =
+      search_unit_cube(reduced, std::move(reduced_start), search_budget(max_evaluations, base_indices.size()));
   found.u = expand(found.u);
   return found;
 }
@@ -128,25 +156,25 @@ SearchedPoint search_base_form(const optimize::ResidualFunction& residuals, cons
 // extensions at 0.2, 0.5 and 0.8 of their ranges (a base form that has taken part of an extension's effect can sit
 // far from the joint optimum: a larger wrist circle moved towards the hand for a flatter ellipse), then the polish
 // over every parameter from the best of them and of the base optimum.
-SearchedPoint search_extensions(const optimize::ResidualFunction& residuals, const SearchedPoint& base_optimum,
+SearchedPoint search_extensions(const Residuals& residuals, const SearchedPoint& base_optimum,
                                 const std::vector<double>& start_u, const std::vector<std::size_t>& extension_indices,
                                 int max_evaluations) {
-  SearchedPoint best = base_optimum;
+  std::vector<std::vector<double>> candidates;
   for (const std::vector<double>* from : {&base_optimum.u, &start_u}) {
     for (const double level : {0.2, 0.5, 0.8}) {
-      std::vector<double> u = *from;
-      for (const std::size_t i : extension_indices) u[i] = level;
-      const double value = sum_of_squares_or_infeasible(residuals(u));
-      if (value < best.training_error) best = {.u = std::move(u), .training_error = value};
+      candidates.push_back(*from);
+      for (const std::size_t i : extension_indices) candidates.back()[i] = level;
     }
   }
+  SearchedPoint best = best_of(residuals, candidates);
+  if (!(best.training_error < base_optimum.training_error)) best = base_optimum;
   return polish(residuals, best, max_evaluations);
 }
 
 // The predictions with `variant`, a trial the effect does not act on keeping the base model's.
 Predictions predictions_with(const GapProblem& problem, const ModelVariant& variant, const EffectSpec& spec,
-                             bool training_only, const Predictions& base) {
-  Predictions predictions = problem.evaluate(variant, training_only, &spec);
+                             bool training_only, const Predictions& base, Fidelity fidelity = Fidelity::kFine) {
+  Predictions predictions = problem.evaluate(variant, training_only, &spec, fidelity);
   for (std::size_t t = 0; t < problem.size(); ++t) {
     if (predictions[t].empty()) predictions[t] = base[t];
   }
@@ -190,16 +218,20 @@ struct EffectObjective {
     apply_effect(spec.id, values_of(spec, u), v);
     return v;
   }
-  std::optional<std::vector<double>> operator()(std::span<const double> u) const {
+  std::optional<std::vector<double>> residuals(std::span<const double> u, Fidelity fidelity) const {
     ++evaluations;
     try {
       std::vector<double> r = problem.training_residuals(
-          predictions_with(problem, variant_at(u), spec, /*training_only=*/true, base.training));
+          predictions_with(problem, variant_at(u), spec, /*training_only=*/true, base.training, fidelity));
       if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })) return std::nullopt;
       return r;
     } catch (const std::exception&) {  // an unphysical device (physics::InvalidParameter) or a diverged replay
       return std::nullopt;
     }
+  }
+  Residuals residual_functions() const {
+    return {.fine = [this](std::span<const double> u) { return residuals(u, Fidelity::kFine); },
+            .coarse = [this](std::span<const double> u) { return residuals(u, Fidelity::kCoarse); }};
   }
   UnitSums heldout_at(std::span<const double> u) const {
     return problem.heldout_sums(predictions_with(problem, variant_at(u), spec, /*training_only=*/false, base.full));
@@ -228,26 +260,44 @@ void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoin
 
 }  // namespace
 
+EffectSearch search_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
+                           const DiagnosisOptions& options) {
+  const EffectSpec& spec = effect_spec(id);
+  EffectSearch s;
+  s.applicable = std::any_of(problem.trials().begin(), problem.trials().end(),
+                             [&](const PreparedTrial& t) { return acts_on(spec, t); });
+  if (!s.applicable) return s;
+  // The base form: the extensions (ParameterSpec::extension) held at their starting values, the neutral or the
+  // nominal's own (extend_fit tries them).
+  const EffectObjective objective(problem, id, base, s.evaluations);
+  const SearchedPoint searched =
+      search_base_form(objective.residual_functions(), objective.start_u, parameter_indices(spec, /*extensions=*/false),
+                       options.max_evaluations);
+  s.u = searched.u;
+  s.training_error = searched.training_error;
+  s.heldout_after = objective.heldout_at(searched.u);
+  return s;
+}
+
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
-                     const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed) {
+                     const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed,
+                     const EffectSearch* searched) {
   const EffectSpec& spec = effect_spec(id);
   EffectFit fit{.id = id, .name = spec.name};
-  fit.applicable = std::any_of(problem.trials().begin(), problem.trials().end(),
-                               [&](const PreparedTrial& t) { return acts_on(spec, t); });
+  const EffectSearch search = searched != nullptr ? *searched : search_effect(problem, id, base, options);
+  fit.applicable = search.applicable;
+  fit.evaluations = search.evaluations;
   fit.train_error_before = problem.training_error(base.training);
-  const EffectObjective objective(problem, id, base, fit.evaluations);
+  int recorded = 0;  // record() replays nothing
+  const EffectObjective objective(problem, id, base, recorded);
   fit.heldout_error_before = problem.heldout_error(objective.before);
   if (!fit.applicable) {
     fit.heldout_error_after = fit.heldout_error_before;
     fit.train_error_after = fit.train_error_before;
     return fit;
   }
-  // The base form: the extensions (ParameterSpec::extension) held at their starting values, the neutral or the
-  // nominal's own (extend_fit tries them).
-  const std::vector<std::size_t> base_indices = parameter_indices(spec, /*extensions=*/false);
-  const SearchedPoint searched =
-      search_base_form(std::cref(objective), objective.start_u, base_indices, options.max_evaluations);
-  record(fit, objective, searched, objective.heldout_at(searched.u), nominal, options, seed);
+  record(fit, objective, {.u = search.u, .training_error = search.training_error}, search.heldout_after, nominal,
+         options, seed);
   return fit;
 }
 
@@ -261,7 +311,7 @@ bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base
   for (std::size_t i = 0; i < spec.parameters.size(); ++i)
     base_optimum.u.push_back(spec.parameters[i].to_unit(fit.values[i]));
   const SearchedPoint extended =
-      search_extensions(std::cref(objective), base_optimum, objective.start_u, extension_indices,
+      search_extensions(objective.residual_functions(), base_optimum, objective.start_u, extension_indices,
                         search_budget(options.max_evaluations, spec.parameters.size()));
   if (!(extended.training_error < base_optimum.training_error)) return false;
   const UnitSums after = objective.heldout_at(extended.u);

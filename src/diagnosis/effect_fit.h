@@ -38,11 +38,25 @@ std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vect
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
                             std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});
 
+// Where the search of effect `id` on `base` ended (fit_effect's first part) and the held-out sums there. It reads no
+// scoring (GapProblem::set_scored), so it may run while the scored trials are still being decided.
+struct EffectSearch {
+  bool applicable = false;
+  std::vector<double> u;  // in the unit cube of the effect's parameters
+  double training_error = 0.0;
+  UnitSums heldout_after;
+  int evaluations = 0;
+};
+EffectSearch search_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
+                           const DiagnosisOptions& options);
+
 // Effect `id` fitted on `base`'s training part and scored on its held-out part, in its base form: its parameters
 // searched (the start, a coarse grid, Levenberg-Marquardt on the training residuals), its extensions
-// (ParameterSpec::extension) held at their starting values.
+// (ParameterSpec::extension) held at their starting values. `searched`: search_effect's result for the same
+// effect and base, where it has been run already.
 EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& base,
-                     const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed);
+                     const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed,
+                     const EffectSearch* searched = nullptr);
 
 // The extensions of a base-form `fit` on the same `base`, where it is a candidate (it closes min_gain of the held-out
 // gap, what joining the combination takes): every parameter searched again, from the base form's optimum and from the

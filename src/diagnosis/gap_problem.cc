@@ -8,13 +8,13 @@
 
 namespace softwrist::diagnosis {
 
-Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only,
-                                 const EffectSpec* only_changed) const {
+Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed,
+                                 Fidelity fidelity) const {
   Predictions predictions(trials_.size());
   for (std::size_t t = 0; t < trials_.size(); ++t) {
     // A trial the effect does not act on keeps the base model's predictions (filled by the caller).
     if (only_changed != nullptr && !acts_on(*only_changed, trials_[t])) continue;
-    predictions[t] = engine_.predict(trials_[t], variant, training_only);
+    predictions[t] = engine_.predict(trials_[t], variant, training_only, fidelity);
   }
   return predictions;
 }

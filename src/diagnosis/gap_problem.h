@@ -34,8 +34,9 @@ class GapProblem {
   GapProblem(std::vector<PreparedTrial>& trials, ReplayEngine& engine) : trials_(trials), engine_(engine) {}
 
   // The variant's predictions; with `only_changed`, a trial the effect does not act on is left empty (the caller
-  // fills in the base model's).
-  Predictions evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed = nullptr) const;
+  // fills in the base model's). kCoarse only for a Jacobian's differences (Fidelity).
+  Predictions evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed = nullptr,
+                       Fidelity fidelity = Fidelity::kFine) const;
 
   // The fit's objective: mean over kinds of the mean over trials of mean (r/sigma)^2 over training measurements.
   double training_error(const Predictions& predictions) const;

@@ -31,19 +31,24 @@ ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& co
     }
     return v;
   };
-  const optimize::ResidualFunction residuals = [&](std::span<const double> x) -> std::optional<std::vector<double>> {
-    try {
-      return problem.training_residuals(problem.evaluate(combined_variant(combination, values_at(x), nominal), true));
-    } catch (const std::exception&) {
-      return std::nullopt;  // an unphysical corner of the ranges
-    }
+  const auto residuals = [&](Fidelity fidelity) -> optimize::ResidualFunction {
+    return [&, fidelity](std::span<const double> x) -> std::optional<std::vector<double>> {
+      try {
+        return problem.training_residuals(
+            problem.evaluate(combined_variant(combination, values_at(x), nominal), true, nullptr, fidelity));
+      } catch (const std::exception&) {
+        return std::nullopt;  // an unphysical corner of the ranges
+      }
+    };
   };
   optimize::LeastSquaresSettings settings{.lower = std::vector<double>(start.size(), 0.0),
                                           .upper = std::vector<double>(start.size(), 1.0),
                                           .difference_step = 0.005,
                                           .max_evaluations = options.joint_refit_evaluations,
-                                          .jobs = options.jobs};
-  const optimize::LeastSquaresResult fit = optimize::minimize_least_squares(residuals, start, settings);
+                                          .jobs = options.jobs,
+                                          .difference_residuals = residuals(Fidelity::kCoarse)};
+  const optimize::LeastSquaresResult fit =
+      optimize::minimize_least_squares(residuals(Fidelity::kFine), start, settings);
   values = values_at(fit.x);
   for (std::size_t e = 0; e < combination.size(); ++e) {
     combination[e].values = values[e];

@@ -336,9 +336,9 @@ std::string trial_key(const Trial& trial) {
                      static_cast<int>(trial.conventions.posture));
 }
 
-std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon) {
-  return fmt::format("{}|{}|{}|{}", trial_key(trial), sim::device_to_json(variant.device_for(trial)),
-                     variant.regulator_dead_time, horizon);
+std::string cache_key(const Trial& trial, const ModelVariant& variant, double horizon, double timestep) {
+  return fmt::format("{}|{}|{}|{}|{}", trial_key(trial), sim::device_to_json(variant.device_for(trial)),
+                     variant.regulator_dead_time, horizon, timestep);
 }
 
 // Tells one set of drive readings from another in a cache key.
@@ -356,13 +356,13 @@ std::uint64_t fingerprint(const std::vector<control::Pressures>& readings) {
 // The key of angles replayed from measured pressures: the regulators' response and dead time do not reach them, the
 // monitors' calibration does (it turns a reading into a pressure), so a fit of the regulator reuses one replay.
 std::string measured_drive_key(const Trial& trial, const ModelVariant& variant, double horizon,
-                               const std::vector<control::Pressures>& drive) {
+                               const std::vector<control::Pressures>& drive, double timestep) {
   sim::DeviceDescription device = variant.device_for(trial);
   const double max_pressure = device.regulator.max_pressure;
   device.regulator = sim::Regulator{.max_pressure = max_pressure};
-  return fmt::format("measured|{}|{}|{}|{}|{}|{}", trial_key(trial), sim::device_to_json(device),
+  return fmt::format("measured|{}|{}|{}|{}|{}|{}|{}", trial_key(trial), sim::device_to_json(device),
                      fmt::join(variant.monitor_gain, ","), fmt::join(variant.monitor_offset, ","), horizon,
-                     fingerprint(drive));
+                     fingerprint(drive), timestep);
 }
 
 // [s] the Gaussian kernel's standard deviation that smooths the measured readings' difference from the nominal's
@@ -589,18 +589,19 @@ ReplayStats ReplayEngine::stats() const {
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::simulate(const Trial& trial, const ModelVariant& variant,
                                                                       double horizon,
-                                                                      const std::vector<control::Pressures>* drive) {
+                                                                      const std::vector<control::Pressures>* drive,
+                                                                      double timestep) {
   const bool measured = drive != nullptr;
   if (measured && drive->size() != trial.trajectory.size()) {
     throw std::logic_error(
         fmt::format("{}: {} drive readings for {} rows", trial.name, drive->size(), trial.trajectory.size()));
   }
-  const std::string key =
-      measured ? measured_drive_key(trial, variant, horizon, *drive) : cache_key(trial, variant, horizon);
+  const std::string key = measured ? measured_drive_key(trial, variant, horizon, *drive, timestep)
+                                   : cache_key(trial, variant, horizon, timestep);
   return cached(key, [&] {
     const auto started = std::chrono::steady_clock::now();
     const sim::DeviceDescription& device = variant.device_for(trial);
-    const sim::Model model = load_model(device, trial, steps_.trajectory);
+    const sim::Model model = load_model(device, trial, timestep);
     sim::WristSim wrist(model);
     wrist.reset();
     const auto& samples = trial.trajectory;
@@ -711,12 +712,13 @@ std::vector<control::Pressures> ReplayEngine::drive_readings(const Trial& trial,
 }
 
 std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
-    const Trial& trial, const sim::DeviceDescription& device, const std::vector<std::pair<int, double>>& conditions) {
-  return cached(fmt::format("rom|{}|{}", trial_key(trial), sim::device_to_json(device)), [&] {
+    const Trial& trial, const sim::DeviceDescription& device, const std::vector<std::pair<int, double>>& conditions,
+    double timestep) {
+  return cached(fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(device), timestep), [&] {
     // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
     // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
     const auto started = std::chrono::steady_clock::now();
-    const sim::Model model = load_model(device, trial, steps_.settle);
+    const sim::Model model = load_model(device, trial, timestep);
     sim::WristSim wrist(model);
     auto result = std::make_shared<Simulated>();
     for (const auto& [muscle_index, pressure] : conditions) {
@@ -772,17 +774,17 @@ double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& w
 }  // namespace
 
 std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const ModelVariant& variant,
-                                          bool training_only) {
+                                          bool training_only, Fidelity fidelity) {
   const Trial& trial = *prepared.trial;
   switch (trial.kind) {
     case TrialKind::kTorqueSweep:
       return predict_sweep(trial, variant.device_for(trial));
     case TrialKind::kRangeOfMotion:
-      return predict_rom(trial, variant.device_for(trial));
+      return predict_rom(trial, variant.device_for(trial), fidelity);
     case TrialKind::kTensile:
       return predict_tensile(trial, variant.device_for(trial));
     case TrialKind::kTrajectory:
-      return predict_trajectory(prepared, variant, training_only);
+      return predict_trajectory(prepared, variant, training_only, fidelity);
   }
   return {};
 }
@@ -830,7 +832,8 @@ std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::D
   return out;
 }
 
-std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::DeviceDescription& device) {
+std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::DeviceDescription& device,
+                                              Fidelity fidelity) {
   // The same muscle and pressure settle alike: one simulation per condition, in the order of the map. Angles zeroed
   // at the start are read from where each muscle's axis rests at 0 kPa (under the hand's weight, if any).
   const bool zeroed = trial.conventions.angles_zeroed_at_start;
@@ -841,7 +844,8 @@ std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::Dev
   }
   std::vector<std::pair<int, double>> conditions;
   for (const auto& [condition, angle] : settled) conditions.push_back(condition);
-  const auto simulated = settle(trial, device, conditions);
+  const auto simulated =
+      settle(trial, device, conditions, fidelity == Fidelity::kCoarse ? steps_.coarse : steps_.settle);
   std::size_t k = 0;
   for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
   std::vector<double> out;
@@ -852,14 +856,16 @@ std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::Dev
 }
 
 std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
-                                                     bool training_only) {
+                                                     bool training_only, Fidelity fidelity) {
   const Trial& trial = *prepared.trial;
   const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
-  // Measured pressures compared with the regulators alone where measured pressures drive the angles' replay.
+  // Measured pressures compared with the regulators alone where measured pressures drive the angles' replay (cheap:
+  // at the fine step in either fidelity).
   const auto simulated = prepared.pressures && angles_from_measured_pressures(trial)
                              ? std::make_shared<const Simulated>(replay_regulators(trial, variant, horizon))
                              : simulate(trial, variant, horizon,
-                                        prepared.angles_from_measured_pressures ? &prepared.drive_readings : nullptr);
+                                        prepared.angles_from_measured_pressures ? &prepared.drive_readings : nullptr,
+                                        fidelity == Fidelity::kCoarse ? steps_.coarse : steps_.trajectory);
   const double imu_period = sim::ImuModel{}.period_s;
   const std::size_t n = trial.trajectory.size();
   // `series` at time `t`, linear between the steps (a row's time is not always on the step's grid).

@@ -100,10 +100,22 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
 //  - range of motion: 2 ms. A settled angle is an equilibrium, which does not depend on the step: within 0.0019 deg
 //    of the 1 ms replay's. (At 4 ms, within 0.0011 deg, the same fit of four parameters came out at r0 x 0.921: it
 //    lies in a flat valley that such differences move it along.)
+//  - coarse (Fidelity::kCoarse): 5 ms, both kinds, for a fit's finite differences and the ranking of its start grid
+//    only. The integrator's error varies smoothly with the parameters and cancels in a difference of two replays at
+//    the same step, while every value a fit compares with another's, accepts or reports is a fine replay's. 5 ms puts
+//    the IMU's 10 ms samples on steps, and the wrist's fastest mode (about 15 Hz on the paper's device) and the
+//    limits' stiffening (sqrt((A/s)/I) dt = 0.35, wrist_sim.cc) stay within the Euler step's stable reach. On `bench
+//    diagnose` the tolerance fit then ends at a training error of 43.493 against 43.492 with fine differences (4 ms:
+//    43.64, 2 ms: 43.53; its valley is flat), a coarse replay costs 29 ms against 130 ms.
 struct ReplaySteps {
   double trajectory = 0.001;  // [s]
   double settle = 0.002;      // [s]
+  double coarse = 0.005;      // [s]
 };
+
+// Which step a replay takes (ReplaySteps): kCoarse only for a Jacobian's differences, never for a value compared
+// with a fine one.
+enum class Fidelity { kFine, kCoarse };
 
 // What drives the muscles in a trajectory's replay.
 //  - kMeasuredWhereLogged (default): where the log has the regulators' measured pressures (the bridge logs them), the
@@ -138,7 +150,8 @@ class ReplayEngine {
       : plugins_(std::move(plugins)), steps_(steps), pressure_source_(pressure_source) {}
   // The model's value for each point of `trial` (same order); with `training_only`, held-out points of trajectories
   // are left NaN and the simulation stops at the end of the training part.
-  std::vector<double> predict(const PreparedTrial& trial, const ModelVariant& variant, bool training_only);
+  std::vector<double> predict(const PreparedTrial& trial, const ModelVariant& variant, bool training_only,
+                              Fidelity fidelity = Fidelity::kFine);
   // Throws std::runtime_error naming why the model cannot replay the trial (a pressure beyond its regulators).
   void check_replayable(const Trial& trial, const ModelVariant& variant) const;
   ReplayStats stats() const;
@@ -164,19 +177,19 @@ class ReplayEngine {
   sim::Model load_model(const sim::DeviceDescription& device, const Trial& trial, double timestep) const;
   std::vector<double> predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const;
   static std::vector<double> predict_tensile(const Trial& trial, const sim::DeviceDescription& device);
-  std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device);
-  std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant,
-                                         bool training_only);
-  // A trajectory's logged commands, or its measured pressures, replayed up to `horizon` [s].
+  std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device, Fidelity fidelity);
+  std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant, bool training_only,
+                                         Fidelity fidelity);
+  // A trajectory's logged commands, or its measured pressures, replayed up to `horizon` [s] at `timestep` [s].
   // `drive`: the readings that drive the muscles (drive_readings), or null for the commands.
   std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon,
-                                            const std::vector<control::Pressures>* drive);
+                                            const std::vector<control::Pressures>* drive, double timestep);
   // The regulators alone replaying the logged commands up to `horizon` [s], step by step as the plugin integrates
   // them in MuJoCo (pressure_kpa only).
   Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon) const;
   // The settled angle [deg, own direction] of each (muscle, pressure [Pa]) alone, in `fe`.
   std::shared_ptr<const Simulated> settle(const Trial& trial, const sim::DeviceDescription& device,
-                                          const std::vector<std::pair<int, double>>& conditions);
+                                          const std::vector<std::pair<int, double>>& conditions, double timestep);
   sim::PluginSet plugins_;
   ReplaySteps steps_;
   PressureSource pressure_source_;

@@ -41,6 +41,7 @@ struct Usage {
   std::map<std::filesystem::path, std::set<std::size_t>> muscles;
   std::set<std::filesystem::path> dynamic_rigs;
   bool pressures = false;
+  bool pressures_drive_angles = false;  // the monitors' calibration then turns a trajectory's replayed drive
 };
 
 Usage usage_of(const GapProblem& problem) {
@@ -49,6 +50,7 @@ Usage usage_of(const GapProblem& problem) {
     const Trial& trial = *prepared.trial;
     const auto& rig = trial.conventions.placement;
     u.pressures = u.pressures || prepared.pressures;
+    u.pressures_drive_angles = u.pressures_drive_angles || prepared.angles_from_measured_pressures;
     switch (trial.kind) {
       case TrialKind::kTorqueSweep:
         for (const SweepPoint& p : trial.sweep) u.muscles[rig].insert(static_cast<std::size_t>(p.muscle));
@@ -126,7 +128,7 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
                        .high = kpa,
                        .to_si = units::kpa_to_pa(1.0),
                        .index = m,
-                       .cheap = true});
+                       .cheap = !usage.pressures_drive_angles});
     }
     if (t.monitor_gain_fraction > 0.0) {
       knobs.push_back({.kind = KnobKind::kMonitorGain,
@@ -135,7 +137,7 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
                        .low = 1.0 - t.monitor_gain_fraction,
                        .high = 1.0 + t.monitor_gain_fraction,
                        .index = m,
-                       .cheap = true});
+                       .cheap = !usage.pressures_drive_angles});
     }
   }
 }
@@ -251,10 +253,11 @@ Setup setup_of(const GapProblem& problem, const ModelVariant& nominal, const Tol
 // The training residuals of the model a point gives; none where the model cannot be built or replayed (an
 // unphysical corner of a box, an anchor inside the wrist).
 optimize::ResidualFunction residuals_of(const GapProblem& problem,
-                                        std::function<ModelVariant(std::span<const double>)> model_at) {
-  return [&problem, model_at](std::span<const double> x) -> std::optional<std::vector<double>> {
+                                        std::function<ModelVariant(std::span<const double>)> model_at,
+                                        Fidelity fidelity = Fidelity::kFine) {
+  return [&problem, model_at, fidelity](std::span<const double> x) -> std::optional<std::vector<double>> {
     try {
-      return problem.training_residuals(problem.evaluate(model_at(x), true));
+      return problem.training_residuals(problem.evaluate(model_at(x), true, nullptr, fidelity));
     } catch (const std::exception&) {
       return std::nullopt;
     }
@@ -286,8 +289,10 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
   // (an effect's own parameters, fitted with them below, are not).
   optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
   settings.secant_updates = true;
-  const optimize::LeastSquaresResult found = optimize::minimize_least_squares(
-      residuals_of(problem, [&](std::span<const double> x) { return setup.variant_at(nominal, x); }), x0, settings);
+  const auto model_at = [&](std::span<const double> x) { return setup.variant_at(nominal, x); };
+  settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
+  const optimize::LeastSquaresResult found =
+      optimize::minimize_least_squares(residuals_of(problem, model_at), x0, settings);
   fit.evaluations = found.evaluations;
   fit.train_error_after = std::min(found.cost, fit.train_error_before);
   const std::vector<double>& x = found.cost <= fit.train_error_before ? found.x : x0;
@@ -345,6 +350,7 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
     return v;
   };
   const optimize::ResidualFunction residuals = residuals_of(problem, model_at);
+  settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
   int evaluations = 0;
   if (!start_from_nominal.empty()) {  // the start whose training error is lower
     const auto cost = [&](const std::vector<double>& x) {

@@ -79,18 +79,32 @@ class Solver {
  public:
   Solver(const ResidualFunction& f, const LeastSquaresSettings& s) : f_(f), s_(s) {}
 
-  std::optional<VectorXd> evaluate(const VectorXd& x) {
-    ++evaluations_;
-    const auto r = f_(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
-    if (!r) return std::nullopt;
-    VectorXd v = to_vector(*r);
-    if (!v.allFinite()) return std::nullopt;
-    return v;
+  std::optional<VectorXd> evaluate(const VectorXd& x) { return evaluate(f_, x); }
+
+  // The Jacobian at x, where the residuals are `r`: differenced on difference_residuals where they are set and
+  // feasible at x and at every point differenced, otherwise on the residuals themselves (an infeasible direction
+  // is the residuals' to tell).
+  MatrixXd jacobian(const VectorXd& x, const VectorXd& r, VectorXd& lower, VectorXd& upper) {
+    if (s_.difference_residuals) {
+      if (auto base = evaluate(s_.difference_residuals, x); base && base->size() == r.size()) {
+        bool fenced = false;
+        MatrixXd J = differences(s_.difference_residuals, x, *base, lower, upper, fenced);
+        if (!fenced) return J;
+      }
+    }
+    bool fenced = false;
+    return differences(f_, x, r, lower, upper, fenced);
   }
 
-  // Forward differences, stepping inwards at an upper bound and the other way where a step is infeasible. A
-  // direction found infeasible is fenced: the next step holds that parameter where it is (`lower`, `upper` narrowed).
-  MatrixXd jacobian(const VectorXd& x, const VectorXd& r, VectorXd& lower, VectorXd& upper) {
+  int evaluations() const { return evaluations_; }
+
+ private:
+  // Forward differences of `f` (`r` at x), stepping inwards at an upper bound and the other way where a step is
+  // infeasible. A direction found infeasible is fenced: the next step holds that parameter where it is (`lower`,
+  // `upper` narrowed, `fenced` set).
+  MatrixXd differences(const ResidualFunction& f, const VectorXd& x, const VectorXd& r, VectorXd& lower,
+                       VectorXd& upper, bool& fenced) {
+    std::atomic<bool> any_fenced{false};
     const Eigen::Index n = x.size();
     MatrixXd J = MatrixXd::Zero(r.size(), n);
     lower = to_vector(s_.lower);
@@ -101,9 +115,10 @@ class Solver {
         VectorXd xk = x;
         xk[k] = std::clamp(x[k] + sign * h, s_.lower[k], s_.upper[k]);
         if (xk[k] == x[k]) continue;
-        const auto rk = evaluate(xk);
+        const auto rk = evaluate(f, xk);
         if (!rk || rk->size() != r.size()) {
           (sign > 0.0 ? upper : lower)[k] = x[k];
+          any_fenced = true;
           continue;
         }
         J.col(k) = (*rk - r) / (xk[k] - x[k]);
@@ -136,12 +151,19 @@ class Solver {
     work();
     for (auto& t : threads) t.join();
     if (failure) std::rethrow_exception(failure);
+    fenced = any_fenced;
     return J;
   }
 
-  int evaluations() const { return evaluations_; }
+  std::optional<VectorXd> evaluate(const ResidualFunction& f, const VectorXd& x) {
+    ++evaluations_;
+    const auto r = f(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    if (!r) return std::nullopt;
+    VectorXd v = to_vector(*r);
+    if (!v.allFinite()) return std::nullopt;
+    return v;
+  }
 
- private:
   const ResidualFunction& f_;
   const LeastSquaresSettings& s_;
   std::atomic<int> evaluations_{0};

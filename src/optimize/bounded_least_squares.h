@@ -36,13 +36,19 @@ struct LeastSquaresSettings {
   // Parameters whose Jacobian columns are cheap to evaluate right after the point itself (a caller's cache keeps
   // what they do not change): evaluated first, on the calling thread.
   std::vector<bool> cheap;
+  // Where set, the Jacobian is differenced on these residuals instead, its base point included: a cheaper
+  // approximation of the residuals whose error varies smoothly with the parameters (a simulation at a coarser step),
+  // so that it cancels in a difference. Only the search direction comes from it; every cost compared, every step
+  // accepted and the point returned are the residuals' own. Where it is infeasible at the base point, the residuals
+  // are differenced.
+  ResidualFunction difference_residuals;
 };
 
 struct LeastSquaresResult {
   std::vector<double> x;  // the best point evaluated
   double cost = 0.0;      // sum of squared residuals there
-  int evaluations = 0;
-  int iterations = 0;  // Jacobians computed by differences
+  int evaluations = 0;    // of the residuals and of difference_residuals
+  int iterations = 0;     // Jacobians computed by differences
 };
 
 // Minimises the sum of squared residuals from `start` (clamped into the bounds). Throws std::invalid_argument for

@@ -83,6 +83,49 @@ TEST(BoundedLeastSquares, InfeasiblePointsAreSteppedAroundAndColumnsRunOnThreads
   EXPECT_EQ(result.evaluations, calls.load());
 }
 
+// Rosenbrock's residuals with a smooth error added, as a simulation at a coarser step gives: a bias that moves its
+// minimum to (1.05, 1.1) if it were minimised itself.
+std::optional<std::vector<double>> coarse_rosenbrock(std::span<const double> p) {
+  auto r = rosenbrock(p);
+  (*r)[0] += 0.02 + 0.03 * p[0] - 0.04 * p[1];
+  (*r)[1] += 0.05;
+  return r;
+}
+
+TEST(BoundedLeastSquares, DifferencesOnACoarserModelStillEndAtTheResidualsOwnMinimum) {
+  std::atomic<int> fine{0}, coarse{0};
+  LeastSquaresSettings settings = box({-2, -2}, {2, 2}, 400, 2);
+  settings.difference_residuals = [&](std::span<const double> p) {
+    ++coarse;
+    return coarse_rosenbrock(p);
+  };
+  const auto result = minimize_least_squares(
+      [&](std::span<const double> p) {
+        ++fine;
+        return rosenbrock(p);
+      },
+      {-1.2, 1.0}, settings);
+  EXPECT_NEAR(result.x[0], 1.0, 1e-3);  // the residuals' minimum, not the coarse model's
+  EXPECT_NEAR(result.x[1], 1.0, 2e-3);
+  EXPECT_LT(result.cost, 1e-6);
+  EXPECT_EQ(coarse.load() % 3, 0);  // each Jacobian: its base point and two columns, all coarse
+  EXPECT_EQ(result.iterations, coarse.load() / 3);
+  EXPECT_EQ(result.evaluations, fine.load() + coarse.load());
+}
+
+TEST(BoundedLeastSquares, ACoarseModelInfeasibleWhereTheResidualsAreNotIsNotDifferenced) {
+  // The coarse model fails beyond x = 0.5, the residuals do not: the minimum at (1, 1) is still found, with the
+  // Jacobians there differenced on the residuals themselves.
+  LeastSquaresSettings settings = box({-2, -2}, {2, 2}, 400);
+  settings.difference_residuals = [](std::span<const double> p) -> std::optional<std::vector<double>> {
+    if (p[0] > 0.5) return std::nullopt;
+    return coarse_rosenbrock(p);
+  };
+  const auto result = minimize_least_squares(rosenbrock, {-1.2, 1.0}, settings);
+  EXPECT_NEAR(result.x[0], 1.0, 1e-3);
+  EXPECT_NEAR(result.x[1], 1.0, 2e-3);
+}
+
 TEST(BoundedLeastSquares, EqualBoundsHoldAParameter) {
   // Rosenbrock with x held at 0.5: the best y is 0.25.
   const auto result = minimize_least_squares(rosenbrock, {0.5, 1.0}, box({0.5, -2}, {0.5, 2}));
