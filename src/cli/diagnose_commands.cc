@@ -377,7 +377,9 @@ void add_diagnose_bench(CLI::App& bench, std::ostream& out) {
                     "Print {wall_s, synthesize_s, trials, measurements, model_evaluations, tolerance_evaluations, "
                     "replays, verdict}");
   command->add_option("--trajectory-s", o->trajectory_s, "Length of the trajectory trial (default 72 s)");
-  command->add_option("--jobs", o->jobs, "Effects fitted in parallel (default 2)");
+  command->add_option(
+      "--jobs", o->jobs,
+      "Effects fitted in parallel; above 1, beside the tolerance fit, each on this many threads (default 2)");
   command->callback([o, &out] { run_diagnose_bench(*o, out); });
 }
 
@@ -470,7 +472,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_option("--model", d->model, "Placement file of the nominal model")->required();
   diagnose->add_option("--out", d->out, "Output directory (default REAL/diagnosis)");
   diagnose->add_option("--effects", d->effects, "Only these catalogue effects (default all)")->delimiter(',');
-  diagnose->add_option("--jobs", d->jobs, "Effects fitted in parallel (default 2)");
+  diagnose->add_option(
+      "--jobs", d->jobs,
+      "Effects fitted in parallel; above 1, beside the tolerance fit, each on this many threads (default 2)");
   diagnose->add_option("--bootstrap", d->bootstrap, "Bootstrap resamples of the held-out units (default 200)");
   diagnose->add_option("--tolerances", d->tolerances,
                        "JSON file: how well the nominal placement is known (docs/diagnosis.md, Tolerances)");

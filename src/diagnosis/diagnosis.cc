@@ -196,8 +196,9 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
 }
 
 // Each of `ids` searched on its base (search_effect), in parallel. Started longest first, so that the threads finish
-// together (the last one started was the longest, 15 of the 25 s on the paper's case): the most parameters searched,
-// and last those that replay only the regulators. The searches are independent, so the order changes nothing else.
+// together (when the last one started was the longest, it took 15 of the paper's case's 25 s at commit c6c114f): the
+// most parameters searched, and last those that replay only the regulators. The searches are independent, so the
+// order changes nothing else.
 std::vector<EffectSearch> search_from_base(const GapProblem& problem, const std::vector<EffectId>& ids,
                                            const std::function<BaseModel(EffectId)>& base_of,
                                            const DiagnosisOptions& options) {
@@ -726,10 +727,11 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full));
   d.trials = nominal_trial_gaps(d.prepared, residuals, trial_alpha, options.min_gap);
   const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
-  // The effects' searches from the nominal as placed read neither the tolerance fit nor the scored trials: they run
-  // while the tolerances are fitted, whose Levenberg-Marquardt steps, one replay each, leave a thread idle.
+  // The effects' searches from the nominal as placed read neither the tolerance fit nor the scored trials: with more
+  // than one job they run while the tolerances are fitted (each on `jobs` threads), whose Levenberg-Marquardt steps,
+  // one replay each, leave a thread idle.
   std::future<std::vector<EffectSearch>> as_placed_searches;
-  if (options.effect_base != EffectBase::kWithinTolerances && !options.rank_beyond_tolerances) {
+  if (options.jobs > 1 && options.effect_base != EffectBase::kWithinTolerances && !options.rank_beyond_tolerances) {
     as_placed_searches = std::async(std::launch::async, [&] {
       return search_from_base(
           problem, requested_effects(options), [&](EffectId) { return reference; }, options);

@@ -46,8 +46,10 @@ enum class EffectBase {
 
 struct DiagnosisOptions {
   std::vector<EffectId> effects;  // empty: the whole catalogue
-  int jobs = 2;                   // effects fitted in parallel
-  int bootstrap = 200;            // resamples of the held-out units
+  // Effects fitted in parallel; above 1, the effects' searches from the nominal as placed beside the tolerance fit,
+  // each on this many threads.
+  int jobs = 2;
+  int bootstrap = 200;  // resamples of the held-out units
   std::uint64_t seed = 1;
   int max_evaluations = 50;  // per fit of up to two parameters, after the start grid; 15 more per further one
   double alpha = 0.01;       // significance of the gap tests (before Bonferroni)

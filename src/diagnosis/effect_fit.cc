@@ -69,8 +69,8 @@ struct Residuals {
   optimize::ResidualFunction fine, coarse;
 };
 
-// The polish's budget: n + 1 replays per Levenberg-Marquardt iteration, so a larger effect gets a larger one, 15
-// evaluations per parameter beyond two.
+// The polish's budget: n + 2 replays per Levenberg-Marquardt iteration (a Jacobian on coarse replays with its base
+// point, a step on fine ones), so a larger effect gets a larger one, 15 evaluations per parameter beyond two.
 int search_budget(int max_evaluations, std::size_t parameters) {
   return max_evaluations + 15 * std::max(0, static_cast<int>(parameters) - 2);
 }
@@ -103,25 +103,30 @@ SearchedPoint polish(const Residuals& residuals, const SearchedPoint& from, int 
 }
 
 // The best of `candidates` (the first of equals): ranked on coarse replays, and the first of that ranking evaluated on
-// fine ones (Fidelity). The candidates lie far apart (a start grid), further than the coarse step's error moves a
-// training error; a coarse replay costs a quarter of a fine one. Every candidate is evaluated fine where no coarse
-// replay is feasible or the fine one of the first fails.
+// fine ones (Fidelity), with every candidate whose coarse replay failed (a step too coarse for a stiff corner). The
+// candidates are a start grid or the extensions at 0.2, 0.5 and 0.8 of their ranges, mostly further apart than the
+// coarse step moves a training error; a coarse replay costs a quarter of a fine one. Every candidate is evaluated fine
+// where there are no coarse residuals or none of those evaluated fine is feasible.
 SearchedPoint best_of(const Residuals& residuals, const std::vector<std::vector<double>>& candidates) {
-  std::size_t first = candidates.size();
-  double first_coarse = kInfeasible;
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const double value = sum_of_squares_or_infeasible(residuals.coarse(candidates[i]));
-    if (value < first_coarse) std::tie(first, first_coarse) = std::pair(i, value);
-  }
-  if (first < candidates.size()) {
-    SearchedPoint point{.u = candidates[first],
-                        .training_error = sum_of_squares_or_infeasible(residuals.fine(candidates[first]))};
-    if (point.training_error < kInfeasible) return point;
+  std::vector<bool> fine(candidates.size(), !residuals.coarse);
+  if (residuals.coarse) {
+    std::size_t first = candidates.size();
+    double first_coarse = kInfeasible;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      const double value = sum_of_squares_or_infeasible(residuals.coarse(candidates[i]));
+      if (value < first_coarse) std::tie(first, first_coarse) = std::pair(i, value);
+      fine[i] = !(value < kInfeasible);
+    }
+    if (first < candidates.size()) fine[first] = true;
   }
   SearchedPoint best{.u = candidates.front(), .training_error = kInfeasible};
-  for (const std::vector<double>& u : candidates) {
-    const double value = sum_of_squares_or_infeasible(residuals.fine(u));
-    if (value < best.training_error) best = {.u = u, .training_error = value};
+  for (const bool all : {false, true}) {
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      if (fine[i] == all) continue;  // the first pass: those marked; the second: the others
+      const double value = sum_of_squares_or_infeasible(residuals.fine(candidates[i]));
+      if (value < best.training_error) best = {.u = candidates[i], .training_error = value};
+    }
+    if (best.training_error < kInfeasible) break;
   }
   return best;
 }
@@ -144,8 +149,8 @@ SearchedPoint search_base_form(const Residuals& residuals, const std::vector<dou
   };
   std::vector<double> reduced_start;
   for (const std::size_t i : base_indices) reduced_start.push_back(start_u[i]);
-  const Residuals reduced{.fine = [&](std::span<const double> r) { return residuals.fine(expand(r)); },
-                          .coarse = [&](std::span<const double> r) { return residuals.coarse(expand(r)); }};
+  Residuals reduced{.fine = [&](std::span<const double> r) { return residuals.fine(expand(r)); }, .coarse = {}};
+  if (residuals.coarse) reduced.coarse = [&](std::span<const double> r) { return residuals.coarse(expand(r)); };
   SearchedPoint found =
       search_unit_cube(reduced, std::move(reduced_start), search_budget(max_evaluations, base_indices.size()));
   found.u = expand(found.u);
@@ -155,7 +160,7 @@ SearchedPoint search_base_form(const Residuals& residuals, const std::vector<dou
 // The extensions' search (extend_fit): from the base form's optimum and from the effect's start, each with its
 // extensions at 0.2, 0.5 and 0.8 of their ranges (a base form that has taken part of an extension's effect can sit
 // far from the joint optimum: a larger wrist circle moved towards the hand for a flatter ellipse), then the polish
-// over every parameter from the best of them and of the base optimum.
+// over every parameter from the best of them (as best_of ranks them) and of the base optimum.
 SearchedPoint search_extensions(const Residuals& residuals, const SearchedPoint& base_optimum,
                                 const std::vector<double>& start_u, const std::vector<std::size_t>& extension_indices,
                                 int max_evaluations) {
@@ -229,9 +234,14 @@ struct EffectObjective {
       return std::nullopt;
     }
   }
+  // No coarse residuals where every trial the effect changes replays alike at either step (regulator_lag where
+  // measured pressures drive the angles): they would only repeat the fine ones.
   Residuals residual_functions() const {
-    return {.fine = [this](std::span<const double> u) { return residuals(u, Fidelity::kFine); },
-            .coarse = [this](std::span<const double> u) { return residuals(u, Fidelity::kCoarse); }};
+    Residuals r{.fine = [this](std::span<const double> u) { return residuals(u, Fidelity::kFine); }, .coarse = {}};
+    if (std::any_of(problem.trials().begin(), problem.trials().end(),
+                    [&](const PreparedTrial& t) { return acts_on(spec, t) && problem.engine().depends_on_step(t); }))
+      r.coarse = [this](std::span<const double> u) { return residuals(u, Fidelity::kCoarse); };
+    return r;
   }
   UnitSums heldout_at(std::span<const double> u) const {
     return problem.heldout_sums(predictions_with(problem, variant_at(u), spec, /*training_only=*/false, base.full));

@@ -19,6 +19,11 @@ Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only
   return predictions;
 }
 
+bool GapProblem::depends_on_step() const {
+  return std::any_of(trials_.begin(), trials_.end(),
+                     [&](const PreparedTrial& t) { return engine_.depends_on_step(t); });
+}
+
 double GapProblem::training_error(const Predictions& predictions) const {
   return mean_over_kinds(nullptr, [&](std::size_t t) {
     const PreparedTrial& trial = trials_[t];

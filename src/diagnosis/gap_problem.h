@@ -55,6 +55,9 @@ class GapProblem {
   bool scored(std::size_t trial) const { return scored_.empty() || scored_[trial]; }
 
   std::size_t size() const { return trials_.size(); }
+  // Whether some trial's replay depends on the simulation's step (ReplayEngine::depends_on_step): only then do coarse
+  // replays cost less than fine ones.
+  bool depends_on_step() const;
   const std::vector<PreparedTrial>& trials() const { return trials_; }
   ReplayEngine& engine() const { return engine_; }
 

@@ -45,8 +45,8 @@ ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& co
                                           .upper = std::vector<double>(start.size(), 1.0),
                                           .difference_step = 0.005,
                                           .max_evaluations = options.joint_refit_evaluations,
-                                          .jobs = options.jobs,
-                                          .difference_residuals = residuals(Fidelity::kCoarse)};
+                                          .jobs = options.jobs};
+  if (problem.depends_on_step()) settings.difference_residuals = residuals(Fidelity::kCoarse);
   const optimize::LeastSquaresResult fit =
       optimize::minimize_least_squares(residuals(Fidelity::kFine), start, settings);
   values = values_at(fit.x);

@@ -582,6 +582,12 @@ bool ReplayEngine::angles_from_measured_pressures(const Trial& trial) const {
          !trial.trajectory.empty() && trial.trajectory.front().measured_kpa.has_value();
 }
 
+bool ReplayEngine::depends_on_step(const PreparedTrial& prepared) const {
+  const Trial& trial = *prepared.trial;
+  if (trial.kind == TrialKind::kRangeOfMotion) return true;
+  return trial.kind == TrialKind::kTrajectory && !(prepared.pressures && angles_from_measured_pressures(trial));
+}
+
 ReplayStats ReplayEngine::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;

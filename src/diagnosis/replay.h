@@ -157,6 +157,10 @@ class ReplayEngine {
   ReplayStats stats() const;
   // Whether this engine replays `trial`'s angles from its measured pressures.
   bool angles_from_measured_pressures(const Trial& trial) const;
+  // Whether `trial`'s replay depends on the simulation's step (Fidelity): a range of motion and a trajectory's angles
+  // or pressures simulated in MuJoCo; not sweeps and tensile tests (analytic), nor measured pressures compared with
+  // the regulators replayed alone (always at the fine step).
+  bool depends_on_step(const PreparedTrial& trial) const;
   // The measured pressures' readings [kPa] that drive `trial`'s angles, one per row: `nominal`'s regulators'
   // readings replaying the commands, plus the measured readings' difference from them smoothed over
   // kDriveSmoothing. Raw readings carry the sensor's white noise into the muscles, and through the wrist's

@@ -290,7 +290,7 @@ ToleranceFit fit_within_tolerances(const GapProblem& problem, const ModelVariant
   optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
   settings.secant_updates = true;
   const auto model_at = [&](std::span<const double> x) { return setup.variant_at(nominal, x); };
-  settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
+  if (problem.depends_on_step()) settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
   const optimize::LeastSquaresResult found =
       optimize::minimize_least_squares(residuals_of(problem, model_at), x0, settings);
   fit.evaluations = found.evaluations;
@@ -350,7 +350,7 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
     return v;
   };
   const optimize::ResidualFunction residuals = residuals_of(problem, model_at);
-  settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
+  if (problem.depends_on_step()) settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
   int evaluations = 0;
   if (!start_from_nominal.empty()) {  // the start whose training error is lower
     const auto cost = [&](const std::vector<double>& x) {

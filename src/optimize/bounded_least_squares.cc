@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -82,33 +83,41 @@ class Solver {
   std::optional<VectorXd> evaluate(const VectorXd& x) { return evaluate(f_, x); }
 
   // The Jacobian at x, where the residuals are `r`: differenced on difference_residuals where they are set and
-  // feasible at x and at every point differenced, otherwise on the residuals themselves (an infeasible direction
-  // is the residuals' to tell).
+  // feasible at x, each column where a point it differences is infeasible there differenced again on the residuals
+  // themselves (an infeasible direction is theirs to tell), budget permitting (otherwise it stays fenced).
   MatrixXd jacobian(const VectorXd& x, const VectorXd& r, VectorXd& lower, VectorXd& upper) {
-    if (s_.difference_residuals) {
-      if (auto base = evaluate(s_.difference_residuals, x); base && base->size() == r.size()) {
-        bool fenced = false;
-        MatrixXd J = differences(s_.difference_residuals, x, *base, lower, upper, fenced);
-        if (!fenced) return J;
+    const Eigen::Index n = x.size();
+    MatrixXd J = MatrixXd::Zero(r.size(), n);
+    lower = to_vector(s_.lower);
+    upper = to_vector(s_.upper);
+    std::vector<Eigen::Index> columns(static_cast<std::size_t>(n));
+    std::iota(columns.begin(), columns.end(), Eigen::Index{0});
+    if (!s_.difference_residuals) {
+      differences(f_, x, r, columns, J, lower, upper);
+      return J;
+    }
+    if (auto base = evaluate(s_.difference_residuals, x); base && base->size() == r.size()) {
+      columns = differences(s_.difference_residuals, x, *base, columns, J, lower, upper);
+      if (columns.empty() || evaluations_ + 2 * std::ssize(columns) >= s_.max_evaluations) return J;
+      for (const Eigen::Index k : columns) {
+        lower[k] = s_.lower[static_cast<std::size_t>(k)];
+        upper[k] = s_.upper[static_cast<std::size_t>(k)];
       }
     }
-    bool fenced = false;
-    return differences(f_, x, r, lower, upper, fenced);
+    differences(f_, x, r, columns, J, lower, upper);
+    return J;
   }
 
   int evaluations() const { return evaluations_; }
 
  private:
-  // Forward differences of `f` (`r` at x), stepping inwards at an upper bound and the other way where a step is
-  // infeasible. A direction found infeasible is fenced: the next step holds that parameter where it is (`lower`,
-  // `upper` narrowed, `fenced` set).
-  MatrixXd differences(const ResidualFunction& f, const VectorXd& x, const VectorXd& r, VectorXd& lower,
-                       VectorXd& upper, bool& fenced) {
-    std::atomic<bool> any_fenced{false};
-    const Eigen::Index n = x.size();
-    MatrixXd J = MatrixXd::Zero(r.size(), n);
-    lower = to_vector(s_.lower);
-    upper = to_vector(s_.upper);
+  // Forward differences of `f` (`r` at x) for `columns` of J, stepping inwards at an upper bound and the other way
+  // where a step is infeasible. A direction found infeasible is fenced: the next step holds that parameter where it
+  // is (`lower`, `upper` narrowed). Returns the columns where some point was infeasible.
+  std::vector<Eigen::Index> differences(const ResidualFunction& f, const VectorXd& x, const VectorXd& r,
+                                        const std::vector<Eigen::Index>& columns, MatrixXd& J, VectorXd& lower,
+                                        VectorXd& upper) {
+    std::vector<char> fenced(static_cast<std::size_t>(x.size()), 0);  // char: written from several threads
     const auto column = [&](Eigen::Index k) {
       const double h = s_.difference_step * (s_.upper[k] - s_.lower[k]);
       for (double sign : {x[k] + h <= s_.upper[k] ? 1.0 : -1.0, x[k] + h <= s_.upper[k] ? -1.0 : 1.0}) {
@@ -118,7 +127,7 @@ class Solver {
         const auto rk = evaluate(f, xk);
         if (!rk || rk->size() != r.size()) {
           (sign > 0.0 ? upper : lower)[k] = x[k];
-          any_fenced = true;
+          fenced[static_cast<std::size_t>(k)] = 1;
           continue;
         }
         J.col(k) = (*rk - r) / (xk[k] - x[k]);
@@ -126,7 +135,7 @@ class Solver {
       }
     };
     std::vector<Eigen::Index> expensive;
-    for (Eigen::Index k = 0; k < n; ++k) {
+    for (const Eigen::Index k : columns) {
       if (!s_.cheap.empty() && s_.cheap[k]) {
         column(k);
       } else {
@@ -151,8 +160,11 @@ class Solver {
     work();
     for (auto& t : threads) t.join();
     if (failure) std::rethrow_exception(failure);
-    fenced = any_fenced;
-    return J;
+    std::vector<Eigen::Index> infeasible;
+    for (const Eigen::Index k : columns) {
+      if (fenced[static_cast<std::size_t>(k)]) infeasible.push_back(k);
+    }
+    return infeasible;
   }
 
   std::optional<VectorXd> evaluate(const ResidualFunction& f, const VectorXd& x) {
@@ -190,7 +202,9 @@ LeastSquaresResult minimize_least_squares(const ResidualFunction& residuals, std
   bool fresh = false;  // the Jacobian is the finite differences' at x, not yet moved by a secant update
   while (true) {
     if (need_jacobian) {
-      if (solver.evaluations() + n + 1 > settings.max_evaluations) break;
+      // A Jacobian (n evaluations, one more for the base point of difference_residuals) and at least one step.
+      const int jacobian_cost = static_cast<int>(n) + (settings.difference_residuals ? 1 : 0);
+      if (solver.evaluations() + jacobian_cost + 1 > settings.max_evaluations) break;
       jacobian = solver.jacobian(x, r, lower, upper);
       ++iterations;
       fresh = true;

@@ -2,8 +2,8 @@
 // Bounded nonlinear least squares: Levenberg-Marquardt on a finite-difference Jacobian, with the bounds kept by an
 // active set (a parameter whose step would leave its box is held at the bound and the step is solved again for the
 // rest). For residuals that cost a simulation each, where the derivative-free searches (bounded_search.h) spend
-// 2n+1 evaluations only to build their first model: here one Jacobian costs n, and its columns are independent, so
-// they are evaluated on `jobs` threads.
+// 2n+1 evaluations only to build their first model: here one Jacobian costs n (n + 1 on difference_residuals), and
+// its columns are independent, so they are evaluated on `jobs` threads.
 //
 // The residual function may be called from several threads at once. It returns std::nullopt where the parameters are
 // infeasible (a failed simulation): a Jacobian column then takes the step the other way, and a trial step there is
@@ -40,7 +40,9 @@ struct LeastSquaresSettings {
   // approximation of the residuals whose error varies smoothly with the parameters (a simulation at a coarser step),
   // so that it cancels in a difference. Only the search direction comes from it; every cost compared, every step
   // accepted and the point returned are the residuals' own. Where it is infeasible at the base point, the residuals
-  // are differenced.
+  // are differenced; where it is infeasible at a point of a column, that column is differenced again on the
+  // residuals (if the budget allows two evaluations per such column; otherwise its direction stays fenced). Called
+  // from several threads at once, as the residuals are; its evaluations count towards max_evaluations.
   ResidualFunction difference_residuals;
 };
 

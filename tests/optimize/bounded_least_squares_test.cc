@@ -114,16 +114,37 @@ TEST(BoundedLeastSquares, DifferencesOnACoarserModelStillEndAtTheResidualsOwnMin
 }
 
 TEST(BoundedLeastSquares, ACoarseModelInfeasibleWhereTheResidualsAreNotIsNotDifferenced) {
-  // The coarse model fails beyond x = 0.5, the residuals do not: the minimum at (1, 1) is still found, with the
-  // Jacobians there differenced on the residuals themselves.
+  // The coarse model fails beyond x = 0.5, the residuals do not: the minimum at (1, 1) is still found (a Jacobian
+  // whose x column is fenced where the coarse model fails could not step past 0.5), with the Jacobians there
+  // differenced on the residuals themselves, and those before on the coarse model.
+  std::atomic<int> coarse{0};
   LeastSquaresSettings settings = box({-2, -2}, {2, 2}, 400);
-  settings.difference_residuals = [](std::span<const double> p) -> std::optional<std::vector<double>> {
+  settings.difference_residuals = [&](std::span<const double> p) -> std::optional<std::vector<double>> {
+    ++coarse;
     if (p[0] > 0.5) return std::nullopt;
     return coarse_rosenbrock(p);
   };
   const auto result = minimize_least_squares(rosenbrock, {-1.2, 1.0}, settings);
   EXPECT_NEAR(result.x[0], 1.0, 1e-3);
   EXPECT_NEAR(result.x[1], 1.0, 2e-3);
+  EXPECT_GT(coarse.load(), 3);
+}
+
+TEST(BoundedLeastSquares, TheBudgetIsKeptWithACoarseModelThatFails) {
+  // Every coarse Jacobian's x column fails and is differenced again on the residuals: the budget still holds.
+  for (const int budget : {4, 5, 7, 12}) {
+    LeastSquaresSettings settings = box({-2, -2}, {2, 2}, budget);
+    settings.difference_residuals = [](std::span<const double> p) -> std::optional<std::vector<double>> {
+      if (p[0] > -1.2) return std::nullopt;
+      return coarse_rosenbrock(p);
+    };
+    const auto result = minimize_least_squares(rosenbrock, {-1.2, 1.0}, settings);
+    EXPECT_LE(result.evaluations, budget) << "budget " << budget;
+    EXPECT_LE(result.cost, 24.2 + 1e-12) << "budget " << budget;  // the start's at most
+    if (budget >= 12) {
+      EXPECT_LT(result.cost, 24.2);
+    }
+  }
 }
 
 TEST(BoundedLeastSquares, EqualBoundsHoldAParameter) {
