@@ -245,11 +245,23 @@ bool closes_the_gap(const std::vector<EffectFit>& fits, const DiagnosisOptions& 
                      [&](const EffectFit& f) { return f.applicable && f.heldout_error_after < options.min_gap; });
 }
 
-// Each effect alone on its bases (EffectBases), best first (applicable ones before the others). Of an effect fitted
-// from two bases, the one with the lower held-out error (as the effects are ranked, leader_of_round). Where an effect
-// from the nominal as placed already closes the gap, the bases within the tolerances are neither made nor fitted
-// from: the most they could do is close it too, at the price of a tolerance fit's parameters (the paper-sized set:
-// the mounts close it, and the second base would add half the replays).
+// Held-out units below which a bootstrap interval of the shrink is not asked for.
+constexpr std::size_t kMinBootstrapUnits = 5;
+
+// Whether a bootstrap interval of the shrink says anything: not when the trials with a gap hold few held-out units
+// (a tensile test alone holds out two pressure levels, and resampling two units gives three possible data sets).
+bool interval_informative(const GapProblem& problem) {
+  std::size_t units = 0;
+  const auto heldout_units = problem.heldout_units();
+  for (std::size_t t = 0; t < problem.size(); ++t) units += problem.scored(t) ? heldout_units[t].size() : 0;
+  return units >= kMinBootstrapUnits;
+}
+
+// Each effect alone on its bases (EffectBases): the leader first, then best first (applicable ones before the
+// others). Of an effect fitted from two bases, the one with the lower held-out error (as the effects are ranked,
+// leader_of_round). Where an effect from the nominal as placed already closes the gap, the bases within the
+// tolerances are neither made nor fitted from: the most they could do is close it too, at the price of a tolerance
+// fit's parameters (the paper-sized set: the mounts close it, and the second base would add half the replays).
 std::vector<EffectFit> fit_each_effect(const GapProblem& problem, EffectBases& bases,
                                        const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   const std::vector<EffectId> ids = requested_effects(options);
@@ -278,23 +290,12 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, EffectBases& b
     if (a.applicable != b.applicable) return a.applicable;
     return a.heldout_error_after < b.heldout_error_after;
   });
-  const std::size_t leader = leader_of_round(problem, fits, options, options.seed + 500);
+  const std::size_t leader =
+      leader_of_single_fits(problem, fits, options, options.seed + 500, interval_informative(problem));
   if (leader < fits.size())
     std::rotate(fits.begin(), fits.begin() + static_cast<std::ptrdiff_t>(leader),
                 fits.begin() + static_cast<std::ptrdiff_t>(leader) + 1);
   return fits;
-}
-
-// Held-out units below which a bootstrap interval of the shrink is not asked for.
-constexpr std::size_t kMinBootstrapUnits = 5;
-
-// Whether a bootstrap interval of the shrink says anything: not when the trials with a gap hold few held-out units
-// (a tensile test alone holds out two pressure levels, and resampling two units gives three possible data sets).
-bool interval_informative(const GapProblem& problem) {
-  std::size_t units = 0;
-  const auto heldout_units = problem.heldout_units();
-  for (std::size_t t = 0; t < problem.size(); ++t) units += problem.scored(t) ? heldout_units[t].size() : 0;
-  return units >= kMinBootstrapUnits;
 }
 
 struct Combination {
@@ -361,13 +362,11 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
                              const BaseModel& leader_base, const WithoutOwnTolerances& without_own,
                              const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   const bool informative = interval_informative(problem);  // otherwise the cut alone
-  const auto helps = [&](const EffectFit& f) {
-    return f.applicable && f.shrink_fraction >= options.min_gain && (f.ci_low > 0.0 || !informative);
-  };
+  const auto joins = [&](const EffectFit& f) { return joins_combination(f, informative, options); };
   Combination c{.effects = {}, .model = leader_base.variant, .full = leader_base.full};
   std::vector<EffectId> candidates;
   for (const auto& f : single_fits) {
-    if (helps(f)) candidates.push_back(f.id);
+    if (joins(f)) candidates.push_back(f.id);
   }
   std::uint64_t round_seed = options.seed + 1000;
   while (!candidates.empty() && static_cast<int>(c.effects.size()) < options.max_combined) {
@@ -404,8 +403,8 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
       extend_where_a_gap_remains(problem, tries, base_of, nominal_device, options, round_seed + 30);
       round_seed += 100;
     }
-    // Of the tries that would join (helps), the leader of the round; none joins when none helps.
-    const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50, helps);
+    // Of the tries that would join, the leader of the round; none joins when none helps.
+    const std::size_t leader = leader_of_round(problem, tries, options, round_seed + 50, joins);
     if (leader < tries.size()) {
       const EffectFit& best = tries[leader];
       c.model = std::move(bases[leader]);

@@ -358,4 +358,16 @@ std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& f
   return leader;
 }
 
+bool joins_combination(const EffectFit& fit, bool interval_informative, const DiagnosisOptions& options) {
+  return fit.applicable && fit.shrink_fraction >= options.min_gain && (fit.ci_low > 0.0 || !interval_informative);
+}
+
+std::size_t leader_of_single_fits(const GapProblem& problem, std::vector<EffectFit>& fits,
+                                  const DiagnosisOptions& options, std::uint64_t seed, bool interval_informative) {
+  const std::size_t leader = leader_of_round(problem, fits, options, seed, [&](const EffectFit& f) {
+    return joins_combination(f, interval_informative, options);
+  });
+  return leader < fits.size() ? leader : leader_of_round(problem, fits, options, seed);
+}
+
 }  // namespace softwrist::diagnosis

@@ -38,6 +38,18 @@ std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vect
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
                             std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});
 
+// Whether a single fit may join the greedy combination: it cuts the held-out error of its base by min_gain, its
+// bootstrap interval above zero where the interval is informative (enough held-out units).
+bool joins_combination(const EffectFit& fit, bool interval_informative, const DiagnosisOptions& options);
+
+// The leader of the single fits (leader_of_round) among those that may join the combination, which starts from it on
+// the base it was fitted on; among all applicable ones where none may. A leader that did not help (a relaxed wrist
+// within one standard error of the best, cutting nothing) put its base under the first that did: on the independent
+// device's aged fabric an fPAM fitted from the tolerances with its own r0 at the nominal went on top of a base with r0
+// already at its tolerance's edge, and "explained -342 %" of the gap.
+std::size_t leader_of_single_fits(const GapProblem& problem, std::vector<EffectFit>& fits,
+                                  const DiagnosisOptions& options, std::uint64_t seed, bool interval_informative);
+
 // Where the search of effect `id` on `base` ended (fit_effect's first part) and the held-out sums there. It reads no
 // scoring (GapProblem::set_scored), so it may run while the scored trials are still being decided.
 struct EffectSearch {

@@ -49,6 +49,9 @@ struct Point {
   int motion = 0;    // +1 moving towards flexion/ulnar (loading on the tensile rig), -1 the other way
   double t_s = NAN;
   int repetition = -1;  // the same condition measured again later (tensile cycle, sweep or range-of-motion repetition)
+  // A torque sweep's condition regardless of the side its held angle was reached from (-1 elsewhere): where no
+  // condition repeats from one side, its repetitions from either side bound the noise (estimate_noise).
+  int condition = -1;
 };
 
 struct PreparedTrial {

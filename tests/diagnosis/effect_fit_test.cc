@@ -102,6 +102,25 @@ TEST_F(LeaderOfRound, TheBasesParametersCountInTheRule) {
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
 }
 
+// The single fits' leader starts the combination on its own base, so it is one that may join it (cuts the held-out
+// error by min_gain with its interval above zero): a simpler fit the data cannot tell from the best does not lead when
+// it cuts nothing. Where none may join, the round's leader as before.
+TEST_F(LeaderOfRound, TheSingleFitsLeaderIsOneThatJoinsTheCombination) {
+  const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
+  const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
+  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs)), fit("simple", 1, sums(0.8, 0.3, alternate))};
+  ASSERT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);              // the simpler, as above
+  EXPECT_EQ(leader_of_single_fits(problem_, fits, options_, 1, true), 1u);  // neither cuts anything
+  fits[0].shrink_fraction = 0.6;
+  fits[0].ci_low = 0.2;
+  EXPECT_TRUE(joins_combination(fits[0], true, options_));
+  EXPECT_FALSE(joins_combination(fits[1], true, options_));
+  EXPECT_EQ(leader_of_single_fits(problem_, fits, options_, 1, true), 0u);
+  fits[0].ci_low = -0.1;  // its interval reaches zero: it joins only where the interval says nothing
+  EXPECT_EQ(leader_of_single_fits(problem_, fits, options_, 1, true), 1u);
+  EXPECT_EQ(leader_of_single_fits(problem_, fits, options_, 1, false), 0u);
+}
+
 TEST_F(LeaderOfRound, NoneApplicableIsNoLeader) {
   std::vector<EffectFit> fits = {fit("a", 1, sums(0.5, 0.1))};
   fits[0].applicable = false;

@@ -7,11 +7,14 @@
 #include "diagnosis/replay.h"
 
 #include <cmath>
+#include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "diagnosis/effects.h"
+#include "physics/units.h"
 #include "sim/device.h"
 #include "sim/model_builder.h"
 #include "sim/wrist_sim.h"
@@ -234,6 +237,61 @@ TEST_F(ReplayDeadTime, MeasuredPressuresThatAreTheModelsOwnGiveTheCommandsAngles
   apply_effect(EffectId::kMountStretch, std::vector<double>{3.0}, stretched);
   const std::vector<double> stiffer = measured.predict(from_measured.at(0), stretched, false);
   EXPECT_GT(std::abs(stiffer.back() - driven.back()), 0.1);  // [deg]
+}
+
+// A torque sweep whose order alternates between repetitions (issue 20: a rig's sweep goes up the angles, then down):
+// every held angle is reached from a different side in each, so no condition repeats from one side and the pooled
+// spread of repeats is not to be had. The measurements are the nominal's torques 20 % weaker (a misfit that changes
+// from one pressure to the next) with 5 mN m of noise: the successive differences hold the misfit, the spread between
+// the two sides does not.
+class AlternatingSweepNoise : public ::testing::Test {
+ protected:
+  static constexpr double kNoise = 0.005;  // [N m]
+
+  // The sweep: 5 held angles x 5 pressures, up the angles in repetition 1 and down them in repetition 2, each
+  // measurement `scale` times the nominal's torque, `side_offset` [N m] added where the angle was reached going
+  // down (a hysteresis), and noise.
+  PreparedTrial prepared_sweep(double scale, double side_offset) {
+    Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+    for (const int repetition : {1, 2}) {
+      for (int a = 0; a < 5; ++a) {
+        const int held = repetition == 1 ? a : 4 - a;
+        for (int p = 0; p < 5; ++p) {
+          trial.sweep.push_back({.angle = units::deg_to_rad(-40.0 + 20.0 * held),
+                                 .pressure = units::kpa_to_pa(30.0 * p),
+                                 .repetition = repetition,
+                                 .motion = repetition == 1 ? 1 : -1});
+        }
+      }
+    }
+    RealData data;
+    data.trials.push_back(trial);
+    const ModelVariant nominal{.device = sim::paper_device()};
+    const std::vector<double> torque = engine_.predict(prepare(data, engine_, nominal).at(0), nominal, false);
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> noise(0.0, kNoise);
+    for (std::size_t i = 0; i < torque.size(); ++i) {
+      SweepPoint& s = data.trials[0].sweep[i];
+      s.torque = scale * torque[i] + (s.motion < 0 ? side_offset : 0.0) + noise(rng);
+    }
+    return prepare(data, engine_, nominal).at(0);
+  }
+
+  ReplayEngine engine_{sim::PluginSet::Default()};
+};
+
+TEST_F(AlternatingSweepNoise, TheSpreadBetweenTheSidesIsTheNoiseWhereTheMisfitChangesFromPointToPoint) {
+  const PreparedTrial p = prepared_sweep(0.8, 0.0);
+  EXPECT_NEAR(p.noise, kNoise, 0.35 * kNoise) << p.noise_source;
+  EXPECT_NE(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
+  EXPECT_EQ(p.noise_dof, 25);
+}
+
+TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
+  // A side offset of 0.5 N m (a large hysteresis) and no misfit: the successive differences are the smaller.
+  const PreparedTrial p = prepared_sweep(1.0, 0.5);
+  EXPECT_NE(p.noise_source.find("successive differences"), std::string::npos) << p.noise_source;
+  EXPECT_LT(p.noise, 0.2);
 }
 
 }  // namespace

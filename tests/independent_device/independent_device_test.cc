@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -80,12 +81,28 @@ Csv read_csv(const fs::path& path) {
 
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("softwrist_independent_test_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+// A scratch directory of this process, empty at the start and removed when it goes out of scope (a suite run left
+// some 1900 of them in /tmp before).
+class Scratch {
+ public:
+  explicit Scratch(const std::string& name)
+      : dir_(fs::temp_directory_path() / ("softwrist_independent_test_" + std::to_string(::getpid()) + "_" + name)) {
+    fs::remove_all(dir_);
+  }
+  Scratch(Scratch&& other) noexcept : dir_(std::move(other.dir_)) { other.dir_.clear(); }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  Scratch& operator=(Scratch&&) = delete;
+  ~Scratch() {
+    std::error_code ignored;
+    if (!dir_.empty()) fs::remove_all(dir_, ignored);
+  }
+  operator const fs::path&() const { return dir_; }  // NOLINT(google-explicit-constructor): used as the path
+  fs::path operator/(const fs::path& file) const { return dir_ / file; }
+
+ private:
+  fs::path dir_;
+};
 
 // Short trials keep the suite quick; the rigs are the same.
 DatasetOptions quick(std::uint64_t seed, std::vector<EffectSpec> effects = {}) {
@@ -114,7 +131,7 @@ bool on_grid(double value, double steps_per_unit) {
 
 TEST(IndependentDataset, SameSeedAndOptionsGiveByteIdenticalFiles) {
   const auto options = quick(11, {{"dahl_friction", 0.5}, {"forearm_imu_roll", 0.7}});
-  const fs::path a = scratch("det_a"), b = scratch("det_b"), c = scratch("det_c");
+  const Scratch a("det_a"), b("det_b"), c("det_c");
   write_dataset(options, a);
   write_dataset(options, b);
   auto other = options;
@@ -129,7 +146,7 @@ TEST(IndependentDataset, SameSeedAndOptionsGiveByteIdenticalFiles) {
 }
 
 TEST(IndependentDataset, ManifestIsTrueToTheFiles) {
-  const fs::path dir = scratch("manifest");
+  const Scratch dir("manifest");
   const auto options = quick(5);
   write_dataset(options, dir);
   const auto manifest = read_json(dir / "manifest.json");
@@ -219,7 +236,7 @@ TEST(IndependentDataset, EveryTorqueConventionOccursAcrossSeeds) {
 }
 
 TEST(IndependentDataset, SensorsQuantiseAsRealRigs) {
-  const fs::path dir = scratch("quantise");
+  const Scratch dir("quantise");
   write_dataset(quick(7, {{"latency_jitter", 1.0}}), dir);
   for (const auto* name : {"trajectory_steps.csv", "trajectory_ellipse.csv"}) {
     const Csv csv = read_csv(dir / name);
@@ -330,7 +347,7 @@ TEST(IndependentEffects, CatalogueHasTwoFormsPerLabelAndThreeOutside) {
 }
 
 TEST(IndependentEffects, BadFormOrLevelIsAnErrorNamingIt) {
-  const fs::path dir = scratch("errors");
+  const Scratch dir("errors");
   auto expect_message = [&](const std::vector<EffectSpec>& effects, const std::string& needle) {
     try {
       write_dataset(quick(1, effects), dir);
@@ -349,12 +366,12 @@ TEST(IndependentEffects, BadFormOrLevelIsAnErrorNamingIt) {
 }
 
 struct EffectRun {
-  fs::path dir;
+  Scratch dir;
   DatasetTruth truth;
 };
 
 EffectRun run(const std::string& tag, std::uint64_t seed, std::vector<EffectSpec> effects) {
-  EffectRun r{scratch(tag), {}};
+  EffectRun r{Scratch(tag), {}};
   r.truth = write_dataset(quick(seed, std::move(effects)), r.dir);
   return r;
 }
