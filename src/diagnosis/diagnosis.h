@@ -170,7 +170,7 @@ struct TrialGap {
 struct Diagnosis {
   std::string verdict;  // an effect's name, "none" or "unexplained"
   std::string reason;
-  std::vector<EffectFit> effects;                         // each effect alone on the nominal model, best first
+  std::vector<EffectFit> effects;                         // each effect alone: the leader, then best first
   std::vector<EffectFit> combination;                     // the greedy combination, in the order the effects joined
   double heldout_nominal = 0.0, heldout_corrected = 0.0;  // all trials
   // The same over the trials whose nominal gap is significant, and the fraction of it the combination closes: what

@@ -364,10 +364,17 @@ bool joins_combination(const EffectFit& fit, bool interval_informative, const Di
 
 std::size_t leader_of_single_fits(const GapProblem& problem, std::vector<EffectFit>& fits,
                                   const DiagnosisOptions& options, std::uint64_t seed, bool interval_informative) {
-  const std::size_t leader = leader_of_round(problem, fits, options, seed, [&](const EffectFit& f) {
+  // Each fit's standard error and whether it is within one, against the lowest error of all (as reported); then the
+  // leader among those that may join, whose call measures them against its own best and is undone.
+  const std::size_t overall = leader_of_round(problem, fits, options, seed);
+  std::vector<std::pair<double, bool>> recorded;
+  for (const EffectFit& f : fits) recorded.emplace_back(f.se_of_difference_to_best, f.within_one_se_of_best);
+  const std::size_t joining = leader_of_round(problem, fits, options, seed, [&](const EffectFit& f) {
     return joins_combination(f, interval_informative, options);
   });
-  return leader < fits.size() ? leader : leader_of_round(problem, fits, options, seed);
+  for (std::size_t k = 0; k < fits.size(); ++k)
+    std::tie(fits[k].se_of_difference_to_best, fits[k].within_one_se_of_best) = recorded[k];
+  return joining < fits.size() ? joining : overall;
 }
 
 }  // namespace softwrist::diagnosis

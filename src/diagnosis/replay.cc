@@ -90,7 +90,8 @@ Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& r
 // it is smaller, the spread between repetitions of a condition reached from either side (Point::condition: a
 // torque sweep whose order alternates between repetitions). Each of the two also holds systematic error (the model's
 // misfit from one point to the next, the fabric's hysteresis between the two sides), so neither is below the noise
-// but by chance; the smaller is the nearer. The successive differences alone read 0.06-0.3 N m on the independent
+// but by chance; the smaller is the nearer (the choice biases it low by a few per cent where both are the noise). The
+// successive differences alone read 0.06-0.3 N m on the independent
 // device's alternating sweeps of a muscle with an effect, whose sensor's noise is a few mN m (issue 20's seed 2).
 void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residuals) {
   const Spread within = pooled_spread(prepared, residuals, [](const Point& p) { return p.group; });
@@ -195,7 +196,9 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       point.muscle = muscle;
       point.motion = s.motion;
       point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa), s.motion});
-      point.condition = conditions({muscle, cluster[k], std::lround(point.pressure_kpa)});
+      // A reading less the same angle's at 0 kPa is 0 there by definition, in the log and in the model: no noise.
+      const bool defined_zero = trial.conventions.torque.baseline_subtracted && s.pressure == 0.0;
+      point.condition = defined_zero ? -1 : conditions({muscle, cluster[k], std::lround(point.pressure_kpa)});
       point.unit = units({muscle, cluster[k]});
       point.heldout = cluster[k] % 2 == 1;  // every other held angle
       point.repetition = s.repetition;

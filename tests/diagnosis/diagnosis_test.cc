@@ -290,6 +290,8 @@ TEST_F(DiagnosisTest, FittedWithinTheTolerancesTheEffectIsNamedBeyondItsOwn) {
   EXPECT_LT(r0, 0.97);
   EXPECT_GT(r0, 0.89);
   EXPECT_GE(d.explained_fraction, 0.6);
+  // The combination starts from the single fits' leader, on the base that leader was fitted on.
+  EXPECT_EQ(d.combination.front().id, d.effects.front().id);
   // The effects with no tolerance parameters of their own (the hysteresis, the IMUs) start where the whole tolerance
   // fit ended, with less of the gap left than the fPAM's own base leaves.
   const double within = fit_of(d, EffectId::kHysteresis).heldout_error_before;

@@ -251,8 +251,9 @@ class AlternatingSweepNoise : public ::testing::Test {
   // The sweep: 5 held angles x 5 pressures, up the angles in repetition 1 and down them in repetition 2, each
   // measurement `scale` times the nominal's torque, `side_offset` [N m] added where the angle was reached going
   // down (a hysteresis), and noise.
-  PreparedTrial prepared_sweep(double scale, double side_offset) {
+  PreparedTrial prepared_sweep(double scale, double side_offset, bool baseline_subtracted = false) {
     Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+    trial.conventions.torque.baseline_subtracted = baseline_subtracted;
     for (const int repetition : {1, 2}) {
       for (int a = 0; a < 5; ++a) {
         const int held = repetition == 1 ? a : 4 - a;
@@ -264,19 +265,20 @@ class AlternatingSweepNoise : public ::testing::Test {
         }
       }
     }
-    RealData data;
-    data.trials.push_back(trial);
+    data_.trials = {trial};
     const ModelVariant nominal{.device = sim::paper_device()};
-    const std::vector<double> torque = engine_.predict(prepare(data, engine_, nominal).at(0), nominal, false);
+    const std::vector<double> torque = engine_.predict(prepare(data_, engine_, nominal).at(0), nominal, false);
     std::mt19937_64 rng(11);
     std::normal_distribution<double> noise(0.0, kNoise);
     for (std::size_t i = 0; i < torque.size(); ++i) {
-      SweepPoint& s = data.trials[0].sweep[i];
+      SweepPoint& s = data_.trials[0].sweep[i];
       s.torque = scale * torque[i] + (s.motion < 0 ? side_offset : 0.0) + noise(rng);
+      if (baseline_subtracted && s.pressure == 0.0) s.torque = 0.0;  // the 0 kPa reading less itself
     }
-    return prepare(data, engine_, nominal).at(0);
+    return prepare(data_, engine_, nominal).at(0);
   }
 
+  RealData data_;  // the prepared trial points at its trial
   ReplayEngine engine_{sim::PluginSet::Default()};
 };
 
@@ -287,10 +289,18 @@ TEST_F(AlternatingSweepNoise, TheSpreadBetweenTheSidesIsTheNoiseWhereTheMisfitCh
   EXPECT_EQ(p.noise_dof, 25);
 }
 
+// A reading less the same angle's at 0 kPa is exactly 0 there, in the log and the model: those conditions hold no
+// noise and count no degree of freedom (5 of the 25).
+TEST_F(AlternatingSweepNoise, ReadingsDefinedAsZeroCountNoDegreeOfFreedom) {
+  const PreparedTrial p = prepared_sweep(0.8, 0.0, true);
+  EXPECT_EQ(p.noise_dof, 20);
+  EXPECT_NEAR(p.noise, kNoise, 0.35 * kNoise) << p.noise_source;
+}
+
 TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
   // A side offset of 0.5 N m (a large hysteresis) and no misfit: the successive differences are the smaller.
   const PreparedTrial p = prepared_sweep(1.0, 0.5);
-  EXPECT_NE(p.noise_source.find("successive differences"), std::string::npos) << p.noise_source;
+  EXPECT_EQ(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
   EXPECT_LT(p.noise, 0.2);
 }
 
