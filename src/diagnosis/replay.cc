@@ -63,12 +63,12 @@ struct Spread {
   int dof = 0;
 };
 
-// The pooled spread of `residuals` about their means within groups (`group_of` a point; points of group -1 left out).
-Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& residuals,
-                     const std::function<int(const Point&)>& group_of) {
+// The pooled spread of `residuals` about their means within the groups a point's `group` field names (points of group
+// -1 left out).
+Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& residuals, int Point::*group) {
   std::map<int, std::pair<double, int>> sums;
   for (std::size_t i = 0; i < residuals.size(); ++i) {
-    const int g = group_of(prepared.points[i]);
+    const int g = prepared.points[i].*group;
     if (g < 0) continue;
     sums[g].first += residuals[i];
     ++sums[g].second;
@@ -76,7 +76,7 @@ Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& r
   double ss = 0.0;
   int n = 0;
   for (std::size_t i = 0; i < residuals.size(); ++i) {
-    const int g = group_of(prepared.points[i]);
+    const int g = prepared.points[i].*group;
     if (g < 0) continue;
     const auto& s = sums[g];
     ss += std::pow(residuals[i] - s.first / s.second, 2);
@@ -91,10 +91,10 @@ Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& r
 // torque sweep whose order alternates between repetitions). Each of the two also holds systematic error (the model's
 // misfit from one point to the next, the fabric's hysteresis between the two sides), so neither is below the noise
 // but by chance; the smaller is the nearer (the choice biases it low by a few per cent where both are the noise). The
-// successive differences alone read 0.06-0.3 N m on the independent
-// device's alternating sweeps of a muscle with an effect, whose sensor's noise is a few mN m (issue 20's seed 2).
+// successive differences alone read 0.06-0.3 N m on the independent device's alternating sweeps of a muscle with an
+// effect, whose sensor's noise is a few mN m (issue 20's seed 2).
 void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residuals) {
-  const Spread within = pooled_spread(prepared, residuals, [](const Point& p) { return p.group; });
+  const Spread within = pooled_spread(prepared, residuals, &Point::group);
   if (within.dof >= 2) {
     prepared.noise = within.sd;
     prepared.noise_dof = within.dof;
@@ -106,7 +106,7 @@ void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residual
   prepared.noise_dof = std::max(1, static_cast<int>(residuals.size()) - 1);
   prepared.noise = std::sqrt(sd / (2.0 * prepared.noise_dof));
   prepared.noise_source = "successive differences (no repeated measurements)";
-  const Spread across = pooled_spread(prepared, residuals, [](const Point& p) { return p.condition; });
+  const Spread across = pooled_spread(prepared, residuals, &Point::condition);
   if (across.dof >= 2 && across.sd < prepared.noise) {
     prepared.noise_source = fmt::format(
         "spread between repetitions of a condition reached from either side, hysteresis included (no condition "
