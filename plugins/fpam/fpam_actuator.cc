@@ -19,7 +19,7 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
 }
 
 FpamActuator::FpamActuator(FpamConfig config)
-    : config_(std::move(config)), mount_compliance_(physics::mount_compliance(config_.law.mount_stiffness)) {}
+    : config_(std::move(config)), stretch_(physics::stretch_constants(config_.law)) {}
 
 double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) const {
   if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa)) return 0.0;
@@ -43,7 +43,7 @@ double FpamActuator::Force(double tendon_length, double regulated_kpa, double br
   const physics::FpamCoefficients coefficients = law.fpam.at_pressure(pressure);
   // The table was validated in FromConfig and the pressure is clamped to >= 0 above.
   const auto force_law = physics::FpamForceLaw::Prevalidated(pressure, coefficients, law.fpam.fabric());
-  const double force = physics::stretched_force(law, force_law, tendon_length, mount_compliance_).force;
+  const double force = physics::stretched_force(law, force_law, tendon_length, stretch_).force;
   if (!config_.hysteresis.active() || !std::isfinite(branch)) return force;
   return physics::hysteretic_force(config_.hysteresis, force, branch,
                                    physics::pressure_end_force(pressure, coefficients));

@@ -53,7 +53,7 @@ class FpamActuator {
  private:
   explicit FpamActuator(FpamConfig config);
   FpamConfig config_;
-  double mount_compliance_ = 0.0;  // 1/sqrt(K1) + 1/sqrt(K2), once (physics/mount_stretch.h)
+  physics::StretchConstants stretch_;  // the mounts' compliance and the law's reciprocals, once (physics/muscle_law.h)
 };
 
 }  // namespace softwrist::plugin

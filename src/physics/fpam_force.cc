@@ -33,15 +33,16 @@ FpamForceLaw FpamForceLaw::Prevalidated(double pressure, const FpamCoefficients&
 }
 
 void FpamForceLaw::prepare(double pressure, const FpamCoefficients& coefficients, const FabricProperties& fabric) {
-  // Eqn. fiber_orientation substituted without trigonometry: it is cos^2(alpha_0) = 1 / (3 (1 - eps_max)^2), so
-  // sin^2 = 1 - cos^2 and 3 / tan^2 = 3 cos^2 / sin^2 (fpam_force_test.cc checks this against fiber_angle()).
+  // Eqn. fiber_orientation substituted without trigonometry: it is cos^2(alpha_0) = 1 / t with t = 3 (1 - eps_max)^2,
+  // so sin^2 = (t - 1) / t, 1 / sin^2 = t / (t - 1) and 3 / tan^2 = 3 cos^2 / sin^2 = 3 / (t - 1): one division, the
+  // plugin preparing the law every step (fpam_force_test.cc checks this against fiber_angle()).
   const double one_minus = 1.0 - coefficients.max_contraction;
-  const double cos2 = 1.0 / (3.0 * one_minus * one_minus);
-  const double sin2 = 1.0 - cos2;
+  const double t = 3.0 * one_minus * one_minus;
+  const double inverse = 1.0 / (t - 1.0);
   const double r0 = coefficients.radius;
   mckibben_scale_ = pressure_end_force(pressure, coefficients);
-  three_over_tan2_ = 3.0 * cos2 / sin2;
-  one_over_sin2_ = 1.0 / sin2;
+  three_over_tan2_ = 3.0 * inverse;
+  one_over_sin2_ = t * inverse;
   elastic_slope_ = fabric_elastic_slope(r0, fabric);
   elastic_onset_ = fabric.elastic_onset_contraction;
   elastic_curvature_ = fabric.elastic_curvature;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -68,7 +69,9 @@ FpamParameters FpamParameters::with_fabric(const FabricProperties& fabric) const
 }
 
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {
-  require_non_negative("pressure [Pa]", pressure);
+  // The check out of line only where it throws: the plugin calls this every step of every muscle.
+  if (!(pressure >= 0.0 && pressure <= std::numeric_limits<double>::max()))
+    require_non_negative("pressure [Pa]", pressure);
   if (pressure <= rows_.front().pressure) return {rows_.front().radius, rows_.front().max_contraction};
   if (pressure >= rows_.back().pressure) return {rows_.back().radius, rows_.back().max_contraction};
   const auto upper = std::upper_bound(rows_.begin(), rows_.end(), pressure,

@@ -23,21 +23,21 @@ namespace {
 // the iterative solver's eight or nine force evaluations were most of its cost (`softwrist bench sim`); nullopt
 // where rounding leaves no root in range, for the iterative solver to settle.
 std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const FpamForceLaw& force_law, double length,
-                                                  double compliance) {
-  const double rest = law.rest_length, c = compliance;
+                                                  const StretchConstants& constants) {
+  const double rest = law.rest_length, c = constants.compliance, inverse_rest = constants.inverse_rest_length;
   const double onset_length = rest * (1.0 - force_law.elastic_onset());
   // Where the residual crosses zero: beyond u_e (l < l_e, no elastic term) or before it; at l_e the contraction
   // ratio is epsilon_0 itself.
-  const double u_onset = length > onset_length ? (length - onset_length) / c : 0.0;
+  const double u_onset = length > onset_length ? (length - onset_length) * constants.inverse_compliance : 0.0;
   const bool elastic = length > onset_length && force_law(force_law.elastic_onset()) < u_onset * u_onset;
   if (elastic && !force_law.elastic_is_linear()) return std::nullopt;  // a J-shaped fabric: the iterative solve
   const FpamForceLaw::Quadratic q = force_law.quadratic(elastic);
-  const double a = q.c2 / (rest * rest), b = q.c1 / rest, d = q.c0;
+  const double a = q.c2 * inverse_rest * inverse_rest, b = q.c1 * inverse_rest, d = q.c0;
   const double a2 = a * c * c - 1.0, a1 = -c * (2.0 * a * length + b), a0 = (a * length + b) * length + d;
   const double discriminant = a1 * a1 - 4.0 * a2 * a0;
   if (!(discriminant >= 0.0) || a2 == 0.0) return std::nullopt;
   const double half = -0.5 * (a1 + std::copysign(std::sqrt(discriminant), a1));  // no cancellation
-  const double lo = elastic ? 0.0 : u_onset, hi = elastic ? u_onset : length / c;
+  const double lo = elastic ? 0.0 : u_onset, hi = elastic ? u_onset : length * constants.inverse_compliance;
   for (const double u : {half / a2, half != 0.0 ? a0 / half : -1.0}) {
     if (u >= lo - 1e-12 * (1.0 + hi) && u <= hi + 1e-12 * (1.0 + hi) && u >= 0.0) return StretchedForce{u * u, c * u};
   }
@@ -46,18 +46,26 @@ std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const Fp
 
 }  // namespace
 
+StretchConstants stretch_constants(const MuscleLaw& law) {
+  const double compliance = mount_compliance(law.mount_stiffness);
+  return {compliance, std::isfinite(compliance) && compliance > 0.0 ? 1.0 / compliance : 0.0, 1.0 / law.rest_length};
+}
+
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length) {
-  return stretched_force(law, force_law, path_length, mount_compliance(law.mount_stiffness));
+  return stretched_force(law, force_law, path_length, stretch_constants(law));
 }
 
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length,
-                               double compliance) {
-  const double rest_length = law.rest_length;
-  // Eqn. force's contraction ratio inline: L0 > 0 was validated, and the plugin's force must not throw into MuJoCo.
-  const auto force_at_length = [&](double length) { return force_law((rest_length - length) / rest_length); };
+                               const StretchConstants& constants) {
+  // Eqn. force's contraction ratio (L0 - L) / L0 inline: L0 > 0 was validated, and the plugin's force must not
+  // throw into MuJoCo.
+  const auto force_at_length = [&](double length) {
+    return force_law((law.rest_length - length) * constants.inverse_rest_length);
+  };
+  const double compliance = constants.compliance;
   if (law.stretch_mode == StretchMode::kSelfConsistent && std::isfinite(compliance) && compliance > 0.0 &&
       force_at_length(path_length) > 0.0) {
-    if (auto solved = closed_form_stretch(law, force_law, path_length, compliance)) return *solved;
+    if (auto solved = closed_form_stretch(law, force_law, path_length, constants)) return *solved;
   }
   return solve_mount_stretch(force_at_length, path_length, law.mount_stiffness, law.stretch_mode);
 }

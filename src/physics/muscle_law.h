@@ -21,9 +21,17 @@ void validate(const MuscleLaw& law);
 // The pull [N] and the mounts' stretch at a mount-to-mount `path_length` [m], with the force law prepared for one
 // pressure from this law's fPAM (for loops over many lengths at one pressure). The law must have been validated.
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length);
-// The same with the mounts' compliance 1/sqrt(K1) + 1/sqrt(K2) (mount_stretch.h) worked out once by the caller.
+// What the stretch needs of a muscle beyond its force law, worked out once by a caller that evaluates it every step
+// (the plugin): the mounts' compliance 1/sqrt(K1) + 1/sqrt(K2) (mount_stretch.h) and the reciprocals the closed form
+// would otherwise divide by, divisions having been most of a call's cost (`softwrist bench sim`).
+struct StretchConstants {
+  double compliance = 0.0;
+  double inverse_compliance = 0.0;   // 0 where the mounts do not give
+  double inverse_rest_length = 0.0;  // 1 / L0
+};
+StretchConstants stretch_constants(const MuscleLaw& law);  // the law must have been validated
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length,
-                               double compliance);
+                               const StretchConstants& constants);
 // The same at `pressure` [Pa]; validates the law.
 StretchedForce stretched_force(const MuscleLaw& law, double path_length, double pressure);
 

@@ -124,8 +124,8 @@ TEST(CliBench, SimReplaysThePluginsForcesWithTheSameMotion) {
   EXPECT_GT(j["ratio"].get<double>(), 0.0);
 }
 
-// The render benchmark draws real frames at both sizes and reports positive rates; a bad frame count is a usage
-// error.
+// The render benchmark draws real frames at both sizes and reports positive rates and the first frame's cost; a bad
+// frame count is a usage error.
 TEST(CliBench, RenderReportsFramesPerSecond) {
   const auto r = run({"bench", "render", "--json", "--frames", "2"});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -133,6 +133,7 @@ TEST(CliBench, RenderReportsFramesPerSecond) {
   EXPECT_GT(j["fps_640x480"].get<double>(), 0.0);
   EXPECT_GT(j["fps_320x240"].get<double>(), 0.0);
   EXPECT_GT(j["fps_640x480_viewer_look"].get<double>(), 0.0);
+  EXPECT_GT(j["first_frame_s_640x480"].get<double>(), 0.0);
   EXPECT_EQ(run({"bench", "render", "--frames", "0"}).code, 2);
   const auto wrong = run({"bench", "control", "--config", (kSource / "experiments/range_of_motion.json").string()});
   EXPECT_NE(wrong.code, 0);
