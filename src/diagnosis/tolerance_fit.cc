@@ -322,22 +322,26 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
   // The tolerances from where their fit ended (the effect's own at the nominal), then the effect's parameters in
   // the unit interval of its catalogue range; or the tolerances at the nominal with `start_from_nominal`.
   const EffectSpec& spec = effect_spec(id);
-  std::vector<double> x0, x0_nominal;
+  std::vector<double> knobs_fitted, knobs_nominal;
   optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
   for (std::size_t k = 0; k < setup.knobs.size(); ++k) {
     const Knob& knob = setup.knobs[k];
     const bool own = knob.kind == KnobKind::kCatalogue && setup.ids[knob.effect] == id;
-    x0.push_back(own ? knob.nominal : within.params[k].second);
-    x0_nominal.push_back(knob.nominal);
+    knobs_fitted.push_back(own ? knob.nominal : within.params[k].second);
+    knobs_nominal.push_back(knob.nominal);
     if (own) settings.lower[k] = settings.upper[k] = knob.nominal;  // held (bounds equal: not searched)
   }
   for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
-    x0.push_back(spec.parameters[i].to_unit(start[i]));
-    if (!start_from_nominal.empty()) x0_nominal.push_back(spec.parameters[i].to_unit(start_from_nominal[i]));
     settings.lower.push_back(0.0);
     settings.upper.push_back(1.0);
     settings.cheap.push_back(false);
   }
+  // A start: the tolerance knobs, then the effect's values in the unit interval of its catalogue range.
+  const auto start_at = [&](const std::vector<double>& knobs, std::span<const double> values) {
+    std::vector<double> x = knobs;
+    for (std::size_t i = 0; i < spec.parameters.size(); ++i) x.push_back(spec.parameters[i].to_unit(values[i]));
+    return x;
+  };
   const std::size_t n = setup.knobs.size();
   const auto values_at = [&](std::span<const double> x) {
     std::vector<double> values;
@@ -352,12 +356,23 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
   const optimize::ResidualFunction residuals = residuals_of(problem, model_at);
   if (problem.depends_on_step()) settings.difference_residuals = residuals_of(problem, model_at, Fidelity::kCoarse);
   int evaluations = 0;
+  const auto cost = [&](const std::vector<double>& x) {
+    ++evaluations;
+    return sum_of_squares_or_infeasible(residuals(x));
+  };
+  std::vector<double> x0 = start_at(knobs_fitted, start);
+  double x0_cost = cost(x0);
   if (!start_from_nominal.empty()) {  // the start whose training error is lower
-    const auto cost = [&](const std::vector<double>& x) {
-      ++evaluations;
-      return sum_of_squares_or_infeasible(residuals(x));
-    };
-    if (cost(x0_nominal) < cost(x0)) x0 = x0_nominal;
+    std::vector<double> from_nominal = start_at(knobs_nominal, start_from_nominal);
+    if (const double c = cost(from_nominal); c < x0_cost) x0 = std::move(from_nominal), x0_cost = c;
+  }
+  // Where neither can be built or replayed (an effect fitted on another base, put on the tolerances as fitted: an
+  // elliptical wrap surface with anchors the tolerance fit moved can hold a mount inside the surface), the effect at
+  // its neutral value on the tolerances as fitted, then on the nominal (which was replayed).
+  if (!(x0_cost < kInfeasible)) {
+    const std::vector<double> neutral = fit_start(id, nominal.device);
+    x0 = start_at(knobs_fitted, neutral);
+    if (!(cost(x0) < kInfeasible)) x0 = start_at(knobs_nominal, neutral);
   }
   const optimize::LeastSquaresResult found = optimize::minimize_least_squares(residuals, x0, settings);
   return {.variant = model_at(found.x),

@@ -26,9 +26,11 @@ ModelVariant within_tolerances_without(const GapProblem& problem, const ModelVar
 // Effect `id` on top of the nominal within its tolerances, fitted jointly with them by the same least squares, from
 // where the tolerance fit `within` ended with the effect at `start`, or, where given and its training error is lower,
 // from the nominal with the effect at `start_from_nominal` (its fit from the nominal as placed: where the effect is
-// large, the tolerance fit ends distorted at the edges of its boxes, far from the joint optimum).
-// The effect's own tolerance parameters stay at the nominal: it takes its whole value, and its values are not shared
-// with a tolerance that says the same. What an effect closes beyond the tolerances (Diagnosis::beyond_tolerance).
+// large, the tolerance fit ends distorted at the edges of its boxes, far from the joint optimum). Where neither start
+// can be built or replayed, the effect at its neutral value (fit_start) on the tolerances as fitted, then on the
+// nominal. The effect's own tolerance parameters stay at the nominal: it takes its whole value, and its values are not
+// shared with a tolerance that says the same. What an effect closes beyond the tolerances
+// (Diagnosis::beyond_tolerance).
 struct JointFit {
   ModelVariant variant;
   std::vector<double> values;      // the effect's, in its spec's units
