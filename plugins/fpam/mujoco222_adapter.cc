@@ -74,7 +74,8 @@ struct ThreadCache {
 
 const Instance* Find(const mjModel* m, int id) {
   // initial-exec: the cache is read twice per actuator per step, and a dlopen()ed library's default TLS model
-  // costs a __tls_get_addr call on each read (`softwrist bench sim`); 32 bytes fit glibc's static TLS surplus.
+  // costs a __tls_get_addr call on each read (`softwrist bench sim`). The cache and its guard (48 bytes) fit the
+  // static TLS glibc keeps for dlopen()ed libraries (512 bytes); were it used up, dlopen would fail, not slow down.
   __attribute__((tls_model("initial-exec"))) thread_local ThreadCache cache;
   const std::uint64_t generation = Generation().load(std::memory_order_acquire);
   if (cache.model != m || cache.generation != generation) {

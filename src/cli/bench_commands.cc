@@ -268,7 +268,7 @@ struct FrameRate {
 // Offscreen frames per second of the paper's device (OSMesa, software rendering, read back), the wrist sweeping
 // through flexion so that every frame differs: the reports' and videos' quality at 640x480 and, for scale, 320x240,
 // and the viewer's look (shadows, reflections, the model's tessellation) at 640x480, in the same run. Each size is
-// timed after one untimed frame (its first-frame cost reported apart).
+// timed after one untimed frame (at 640x480, the renderer's construction and that frame are reported apart).
 int run_render_bench(const RenderBenchOptions& options, std::ostream& out) {
   if (options.frames < 1) throw UsageError("--frames must be >= 1");
   const sim::DeviceDescription device = sim::paper_device();

@@ -368,7 +368,7 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
   }
   // Where neither can be built or replayed (an effect fitted on another base, put on the tolerances as fitted: an
   // elliptical wrap surface with anchors the tolerance fit moved can hold a mount inside the surface), the effect at
-  // its neutral value on the tolerances as fitted, then on the nominal (which was replayed).
+  // its neutral value on the tolerances as fitted, then on the tolerances at their nominal values.
   if (!(x0_cost < kInfeasible)) {
     const std::vector<double> neutral = fit_start(id, nominal.device);
     x0 = start_at(knobs_fitted, neutral);

@@ -69,7 +69,7 @@ FpamParameters FpamParameters::with_fabric(const FabricProperties& fabric) const
 }
 
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {
-  // The check out of line only where it throws: the plugin calls this every step of every muscle.
+  // The plugin calls this every step of every muscle: the check's call only where the pressure is invalid.
   if (!(pressure >= 0.0 && pressure <= std::numeric_limits<double>::max()))
     require_non_negative("pressure [Pa]", pressure);
   if (pressure <= rows_.front().pressure) return {rows_.front().radius, rows_.front().max_contraction};

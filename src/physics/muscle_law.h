@@ -23,10 +23,10 @@ void validate(const MuscleLaw& law);
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length);
 // What the stretch needs of a muscle beyond its force law, worked out once by a caller that evaluates it every step
 // (the plugin): the mounts' compliance 1/sqrt(K1) + 1/sqrt(K2) (mount_stretch.h) and the reciprocals the closed form
-// would otherwise divide by, divisions having been most of a call's cost (`softwrist bench sim`).
+// would otherwise divide by at every call.
 struct StretchConstants {
   double compliance = 0.0;
-  double inverse_compliance = 0.0;   // 0 where the mounts do not give
+  double inverse_compliance = 0.0;   // 0 where the compliance is 0 or not finite (no closed form there)
   double inverse_rest_length = 0.0;  // 1 / L0
 };
 StretchConstants stretch_constants(const MuscleLaw& law);  // the law must have been validated
