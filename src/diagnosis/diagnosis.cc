@@ -310,7 +310,7 @@ struct Combination {
 // refitted together (joint_refit.h); the first whose joint model cuts the held-out error by min_gain, its bootstrap
 // interval above zero (where informative), joins with the refitted values. Returns whether one joined.
 bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<EffectFit>& tries,
-                     const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options, bool informative,
+                     const ModelVariant& nominal, const DiagnosisOptions& options, bool informative,
                      std::uint64_t seed) {
   const UnitSums before = problem.heldout_sums(c.full);
   const double e0 = problem.heldout_error(before);
@@ -319,7 +319,7 @@ bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<Effe
     if (!t.applicable) continue;
     std::vector<EffectFit> joint = c.effects;
     joint.push_back(t);
-    ModelVariant model = refit_jointly(problem, joint, nominal_device, options);
+    ModelVariant model = refit_jointly(problem, joint, nominal, options);
     Predictions full = problem.evaluate(model, false);
     const UnitSums after = problem.heldout_sums(full);
     joint.back().heldout_error_before = e0;
@@ -360,7 +360,8 @@ ModelVariant try_base(const Combination& c, EffectId id, const WithoutOwnToleran
 // refit where the options ask for one, join_with_refit).
 Combination combine_greedily(const GapProblem& problem, const std::vector<EffectFit>& single_fits,
                              const BaseModel& leader_base, const WithoutOwnTolerances& without_own,
-                             const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+                             const ModelVariant& nominal, const DiagnosisOptions& options) {
+  const sim::DeviceDescription& nominal_device = nominal.device;
   const bool informative = interval_informative(problem);  // otherwise the cut alone
   const auto joins = [&](const EffectFit& f) { return joins_combination(f, informative, options); };
   Combination c{.effects = {}, .model = leader_base.variant, .full = leader_base.full};
@@ -412,7 +413,7 @@ Combination combine_greedily(const GapProblem& problem, const std::vector<Effect
       c.effects.push_back(best);
       c.full = problem.evaluate(c.model, false);
     } else if (c.effects.empty() || options.joint_refit_evaluations <= 0 ||
-               !join_with_refit(problem, c, tries, nominal_device, options, informative, round_seed + 70)) {
+               !join_with_refit(problem, c, tries, nominal, options, informative, round_seed + 70)) {
       break;
     }
     candidates.erase(std::find(candidates.begin(), candidates.end(), c.effects.back().id));
@@ -767,9 +768,9 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& nominal_device, 
         return within_tolerances_without(problem, nominal, options, d.tolerance, ids);
       };
     }
-    Combination combination = combine_greedily(problem, d.effects, base, without_own, nominal_device, options);
+    Combination combination = combine_greedily(problem, d.effects, base, without_own, nominal, options);
     if (options.joint_refit_evaluations > 0 && !combination.effects.empty()) {
-      combination.model = refit_jointly(problem, combination.effects, nominal_device, options);
+      combination.model = refit_jointly(problem, combination.effects, nominal, options);
       combination.full = problem.evaluate(combination.model, false);
     }
     d.combination = std::move(combination.effects);

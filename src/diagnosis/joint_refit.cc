@@ -5,14 +5,16 @@
 namespace softwrist::diagnosis {
 
 ModelVariant combined_variant(const std::vector<EffectFit>& combination, const std::vector<std::vector<double>>& values,
-                              const sim::DeviceDescription& nominal) {
-  ModelVariant v{.device = nominal};
+                              const ModelVariant& nominal) {
+  // With the nominal's rigs: a trial that names its placement is replayed on that rig (ModelVariant::device_for), and
+  // without it every replay of a two-rig data set failed and the refit had no start.
+  ModelVariant v = nominal;
   for (std::size_t e = 0; e < combination.size(); ++e) apply_effect(combination[e].id, values[e], v);
   return v;
 }
 
-ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& combination,
-                           const sim::DeviceDescription& nominal, const DiagnosisOptions& options) {
+ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& combination, const ModelVariant& nominal,
+                           const DiagnosisOptions& options) {
   std::vector<std::vector<double>> values;
   std::vector<double> start;
   for (const EffectFit& f : combination) {
@@ -52,7 +54,7 @@ ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& co
   values = values_at(fit.x);
   for (std::size_t e = 0; e < combination.size(); ++e) {
     combination[e].values = values[e];
-    combination[e].params = describe_values(combination[e].id, values[e], nominal);
+    combination[e].params = describe_values(combination[e].id, values[e], nominal.device);
   }
   return combined_variant(combination, values, nominal);
 }

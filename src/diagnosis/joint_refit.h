@@ -12,13 +12,14 @@
 
 namespace softwrist::diagnosis {
 
-// The nominal with the combination's effects applied in the order they joined, each with `values[e]`.
+// The nominal (as placed, with the rigs its trials name) with the combination's effects applied in the order they
+// joined, each with `values[e]`.
 ModelVariant combined_variant(const std::vector<EffectFit>& combination, const std::vector<std::vector<double>>& values,
-                              const sim::DeviceDescription& nominal);
+                              const ModelVariant& nominal);
 
 // Refits every parameter of `combination` at once on the training part (Levenberg-Marquardt within the catalogue's
 // ranges, in the space the fits search), updating its values and named parameters. Returns the refitted model.
-ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& combination,
-                           const sim::DeviceDescription& nominal, const DiagnosisOptions& options);
+ModelVariant refit_jointly(const GapProblem& problem, std::vector<EffectFit>& combination, const ModelVariant& nominal,
+                           const DiagnosisOptions& options);
 
 }  // namespace softwrist::diagnosis

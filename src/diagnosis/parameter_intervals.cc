@@ -8,6 +8,7 @@
 
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
+#include "sim/device.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -65,6 +66,11 @@ std::vector<double> unit_variances(const Eigen::MatrixXd& jacobian) {
 std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const sim::DeviceDescription& nominal,
                                                      ReplayEngine& engine) {
   if (d.combination.empty()) return {};
+  // The nominal with the rigs its trials name, as the diagnosis prepared it (their placement files).
+  ModelVariant base{.device = nominal};
+  if (d.corrected) {
+    for (const auto& [placement, rig] : d.corrected->rigs) base.rigs.emplace(placement, sim::load_device(placement));
+  }
   std::vector<PreparedTrial> prepared = d.prepared;
   const GapProblem problem(prepared, engine);
   std::vector<std::vector<double>> values;
@@ -76,7 +82,7 @@ std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const s
   }
   double rho = 0.0;
   const std::vector<double> r0 =
-      weighted_residuals(prepared, problem.evaluate(combined_variant(d.combination, values, nominal), false), &rho);
+      weighted_residuals(prepared, problem.evaluate(combined_variant(d.combination, values, base), false), &rho);
   const auto n = static_cast<Eigen::Index>(r0.size());
   const auto p = static_cast<Eigen::Index>(slots.size());
   // The Jacobian in the searched (unit) space, by central differences (one-sided at a bound).
@@ -96,7 +102,7 @@ std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const s
       moved[s.effect][s.index] = s.spec->from_unit(at[side]);
       try {
         sides[side] = weighted_residuals(
-            prepared, problem.evaluate(combined_variant(d.combination, moved, nominal), false), nullptr);
+            prepared, problem.evaluate(combined_variant(d.combination, moved, base), false), nullptr);
       } catch (const std::exception&) {
         sides[side] = r0;
         at[side] = u0[k];

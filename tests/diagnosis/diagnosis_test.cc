@@ -549,6 +549,16 @@ TEST_F(DiagnosisTest, TwoRigsInOneDirectoryShareTheMountStiffness) {
   ASSERT_TRUE(d.corrected.has_value());
   EXPECT_EQ(d.corrected->rigs.size(), 2u);
   for (const auto& t : d.trials) EXPECT_LT(t.excess_corrected, 1.0) << t.experiment;
+  // The joint refit (a calibration's) replays each trial on its own rig too: it started from the nominal's device
+  // alone, where no trial that names a rig could be replayed, and stopped with "least squares: the start is
+  // infeasible".
+  const Diagnosis refitted =
+      diagnose(load_real_data(dir_ / "real"), sim::rom_device(), engine_,
+               {.effects = {EffectId::kMountStretch}, .bootstrap = 20, .joint_refit_evaluations = 20});
+  ASSERT_EQ(refitted.verdict, "mount_stretch") << refitted.reason;
+  EXPECT_NEAR(param(refitted.combination.front(), "K_series_n_per_cm2"), 30.16, 1.5);
+  ASSERT_TRUE(refitted.corrected.has_value());
+  EXPECT_EQ(refitted.corrected->rigs.size(), 2u);
 }
 
 // A fabric muscle pulls harder while it is being stretched than while it shortens (Fig. TensileTest's loops), so a
