@@ -4,8 +4,7 @@
 
 namespace softwrist::physics {
 
-void require(bool ok, std::string_view name, double value, std::string_view requirement) {
-  if (ok) return;
+void fail_requirement(std::string_view name, double value, std::string_view requirement) {
   std::ostringstream message;
   message << name << " = " << value << ": " << requirement;
   throw InvalidParameter(message.str());

@@ -14,8 +14,13 @@ class InvalidParameter : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-// Throws InvalidParameter("<name> = <value>: <requirement>") unless `ok`.
-void require(bool ok, std::string_view name, double value, std::string_view requirement);
+// Throws InvalidParameter("<name> = <value>: <requirement>").
+[[noreturn]] void fail_requirement(std::string_view name, double value, std::string_view requirement);
+// Throws InvalidParameter("<name> = <value>: <requirement>") unless `ok`. Inline, so that a check that holds costs
+// a branch, not a call: the plugin's force law checks its pressure every step of every muscle (`softwrist bench sim`).
+inline void require(bool ok, std::string_view name, double value, std::string_view requirement) {
+  if (!ok) fail_requirement(name, value, requirement);
+}
 
 inline void require_finite(std::string_view name, double value) {
   require(std::isfinite(value), name, value, "must be a finite number");

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 
@@ -69,9 +68,7 @@ FpamParameters FpamParameters::with_fabric(const FabricProperties& fabric) const
 }
 
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {
-  // The plugin calls this every step of every muscle: the check's call only where the pressure is invalid.
-  if (!(pressure >= 0.0 && pressure <= std::numeric_limits<double>::max()))
-    require_non_negative("pressure [Pa]", pressure);
+  require_non_negative("pressure [Pa]", pressure);
   if (pressure <= rows_.front().pressure) return {rows_.front().radius, rows_.front().max_contraction};
   if (pressure >= rows_.back().pressure) return {rows_.back().radius, rows_.back().max_contraction};
   const auto upper = std::upper_bound(rows_.begin(), rows_.end(), pressure,
