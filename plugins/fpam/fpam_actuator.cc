@@ -19,7 +19,10 @@ std::optional<FpamActuator> FpamActuator::Create(const PluginConfig& config, std
 }
 
 FpamActuator::FpamActuator(FpamConfig config)
-    : config_(std::move(config)), stretch_(physics::stretch_constants(config_.law)) {}
+    : config_(std::move(config)), stretch_(physics::stretch_constants(config_.law)) {
+  // FromConfig validated the path, so the constructor cannot throw here.
+  if (const auto& path = config_.planar) geometry_.emplace(path->placement, path->wrist_radius, path->surface);
+}
 
 double FpamActuator::PressureRate(double commanded_kpa, double regulated_kpa) const {
   if (!std::isfinite(commanded_kpa) || !std::isfinite(regulated_kpa)) return 0.0;
@@ -47,6 +50,17 @@ double FpamActuator::Force(double tendon_length, double regulated_kpa, double br
   if (!config_.hysteresis.active() || !std::isfinite(branch)) return force;
   return physics::hysteretic_force(config_.hysteresis, force, branch,
                                    physics::pressure_end_force(pressure, coefficients));
+}
+
+double FpamActuator::Torque(double own_angle, double regulated_kpa, double branch) const {
+  if (!geometry_ || !std::isfinite(own_angle)) return 0.0;
+  const physics::MusclePath path = geometry_->at(own_angle);
+  return Force(path.length, regulated_kpa, branch) * path.moment_arm;
+}
+
+double FpamActuator::PathVelocity(double own_angle, double own_rate) const {
+  if (!geometry_ || !std::isfinite(own_angle) || !std::isfinite(own_rate)) return 0.0;
+  return -geometry_->at(own_angle).moment_arm * own_rate;
 }
 
 double FpamActuator::BranchRate(double branch, double tendon_velocity) const {

@@ -48,12 +48,22 @@ class FpamActuator {
   // non-finite input.
   double BranchRate(double branch, double tendon_velocity) const;
 
+  // routing=planar (FpamConfig::PlanarPath): the muscle's torque [N m] about its own joint, in its own direction, at
+  // that joint's angle in its own direction [rad]: Force at the 2D path's length times its moment arm; 0 for a
+  // non-finite input.
+  bool planar() const { return geometry_.has_value(); }
+  double Torque(double own_angle, double regulated_kpa, double branch = 0.0) const;
+  // The 2D path's length rate [m/s] at the joint's rate in the muscle's own direction [rad/s] (for BranchRate):
+  // dL/dt = -moment arm x rate (virtual work).
+  double PathVelocity(double own_angle, double own_rate) const;
+
   const FpamConfig& config() const { return config_; }
 
  private:
   explicit FpamActuator(FpamConfig config);
   FpamConfig config_;
   physics::StretchConstants stretch_;  // the mounts' compliance and the law's reciprocals, once (physics/muscle_law.h)
+  std::optional<physics::PlacementGeometry> geometry_;  // routing=planar's path, validated once
 };
 
 }  // namespace softwrist::plugin

@@ -115,6 +115,38 @@ std::optional<physics::FpamParameters> ReadFpam(AttributeReader& read) {
   }
 }
 
+// routing=planar's path (FpamConfig::PlanarPath), validated as the physics core validates a placement.
+std::optional<FpamConfig::PlanarPath> ReadPlanarPath(AttributeReader& read) {
+  const std::string routing = read.Text(FpamConfig::kRouting, "spatial");
+  const bool geometry =
+      read.Has(FpamConfig::kPlacement) || read.Has(FpamConfig::kWristRadius) || read.Has(FpamConfig::kWrapSurface);
+  if (routing == "spatial") {
+    if (geometry) read.Fail(FpamConfig::kRouting, "placement, wrist_radius and wrap_surface need routing=planar");
+    return std::nullopt;
+  }
+  if (routing != "planar") {
+    read.Fail(FpamConfig::kRouting, "'" + routing + "' is not spatial or planar");
+    return std::nullopt;
+  }
+  const auto placement = read.Numbers(FpamConfig::kPlacement);
+  const double wrist_radius = read.Number(FpamConfig::kWristRadius);
+  std::vector<double> surface{0.0, 0.0, 1.0};
+  if (read.Has(FpamConfig::kWrapSurface)) surface = read.Numbers(FpamConfig::kWrapSurface);
+  if (!read.ok()) return std::nullopt;
+  if (placement.size() != 4) return read.Fail(FpamConfig::kPlacement, "expected d1,w1,d2,w2"), std::nullopt;
+  if (surface.size() != 3) return read.Fail(FpamConfig::kWrapSurface, "expected x,y,aspect"), std::nullopt;
+  FpamConfig::PlanarPath path{.placement = {placement[0], placement[1], placement[2], placement[3]},
+                              .wrist_radius = wrist_radius,
+                              .surface = {surface[0], surface[1], surface[2]}};
+  try {
+    physics::validate(path.placement, path.wrist_radius, path.surface);
+  } catch (const physics::InvalidParameter& e) {
+    read.Fail(FpamConfig::kPlacement, e.what());
+    return std::nullopt;
+  }
+  return path;
+}
+
 std::string list(const std::vector<double>& values) {
   std::string out;
   for (const double v : values) out += (out.empty() ? "" : ",") + fmt::format("{:.10g}", v);
@@ -192,6 +224,8 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
     read.Fail(kAttribute[static_cast<int>(problem->field)], problem->requirement);
   }
   if (!read.ok()) return std::nullopt;
+  result.planar = ReadPlanarPath(read);
+  if (!read.ok()) return std::nullopt;
   return result;
 }
 
@@ -229,6 +263,13 @@ std::string FpamConfig::ToText() const {
     text += fmt::format(" {}={:.10g} {}={:.10g} {}={:.10g} {}={:.10g}", kHysteresis, hysteresis.fraction,
                         kHysteresisLength, hysteresis.transition_length, kHysteresisFriction, hysteresis.friction_force,
                         kHysteresisPressureFriction, hysteresis.pressure_friction);
+  }
+  if (planar) {
+    const auto& p = planar->placement;
+    const auto& surface = planar->surface;
+    text += fmt::format(" {}=planar {}={} {}={:.10g}", kRouting, kPlacement, list({p.d1, p.w1, p.d2, p.w2}),
+                        kWristRadius, planar->wrist_radius);
+    if (!surface.is_papers()) text += fmt::format(" {}={}", kWrapSurface, list({surface.x, surface.y, surface.aspect}));
   }
   return text;
 }

@@ -13,6 +13,7 @@
 #include "physics/fpam_hysteresis.h"
 #include "physics/muscle_law.h"
 #include "physics/pressure_regulator.h"
+#include "physics/torque_geometry.h"
 #include "plugin_config.h"
 
 namespace softwrist::plugin {
@@ -42,7 +43,13 @@ struct FpamConfig {
   static constexpr std::string_view kHysteresisLength = "hysteresis_length";      // l_h [m], default 0.002
   static constexpr std::string_view kHysteresisFriction = "hysteresis_friction";  // F_0 [N], default 0
   static constexpr std::string_view kHysteresisPressureFriction = "hysteresis_pressure_friction";  // mu, default 0
-  static constexpr std::array<std::string_view, 21> kAttributes = {kRestLength,
+  // How the muscle's length follows the wrist (see Routing below): spatial (default) or planar, which needs the next
+  // three.
+  static constexpr std::string_view kRouting = "routing";
+  static constexpr std::string_view kPlacement = "placement";       // d1,w1,d2,w2 [m] (torque_geometry.h)
+  static constexpr std::string_view kWristRadius = "wrist_radius";  // r_w [m]
+  static constexpr std::string_view kWrapSurface = "wrap_surface";  // x,y [m],aspect; default 0,0,1 (the paper's)
+  static constexpr std::array<std::string_view, 25> kAttributes = {kRestLength,
                                                                    kRadius,
                                                                    kMaxContraction,
                                                                    kTablePressureKpa,
@@ -62,7 +69,11 @@ struct FpamConfig {
                                                                    kHysteresis,
                                                                    kHysteresisLength,
                                                                    kHysteresisFriction,
-                                                                   kHysteresisPressureFriction};
+                                                                   kHysteresisPressureFriction,
+                                                                   kRouting,
+                                                                   kPlacement,
+                                                                   kWristRadius,
+                                                                   kWrapSurface};
 
   // A muscle with hysteresis (physics/fpam_hysteresis.h) has a second state, its branch s. MuJoCo 3 would give the
   // plugin two activations; MuJoCo 2.2.2 gives an actuator one, so the state is the activation of a companion
@@ -74,6 +85,18 @@ struct FpamConfig {
   // ACTUATOR + kPressureRateSuffix, configured as kPressureRatePlugin.
   static constexpr std::string_view kPressureRatePlugin = "softwrist.fpam.pressure_rate";
   static constexpr std::string_view kPressureRateSuffix = "_pressure_rate";
+
+  // spatial: the actuator is on a MuJoCo spatial tendon, whose length the plugin is given (MuJoCo routes it in 3D,
+  // so a muscle also acts on the other axis and its moment arm shrinks as the wrist turns about that axis). planar:
+  // the actuator is on its own joint, with gear +1 in the muscle's own direction (physics::direction_of), and the
+  // plugin takes the path from the paper's 2D torque model (Eqns. tau1, tau2: physics::muscle_path) at that joint's
+  // angle, so each muscle acts on its own axis alone, as the paper models it; its force is then a torque.
+  struct PlanarPath {
+    physics::Placement placement;
+    double wrist_radius = 0.0;
+    physics::WrapSurface surface;
+  };
+  std::optional<PlanarPath> planar;  // empty: spatial
 
   physics::MuscleLaw law;  // the fPAM, L0 and the mounts' stretching
   double max_pressure_kpa = physics::kRegulatorMaxPressureKpa;

@@ -15,9 +15,11 @@
 // activation) lives in mjData, so threads stepping different mjData of the same or different models are safe.
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <string>
 #include <tuple>
@@ -87,6 +89,9 @@ const Instance* Find(const mjModel* m, int id) {
   return &(*cache.instances)[static_cast<std::size_t>(id)];
 }
 
+// mjModel::actuator_gear holds six numbers per actuator (MuJoCo 2.2.2 names no constant for it).
+constexpr int kGearSize = 6;
+
 // MuJoCo 2.2.2 keeps the activations of the stateful actuators, which come last, in d->act.
 int ActivationIndex(const mjModel* m, int id) { return id - (m->nu - m->na); }
 
@@ -98,7 +103,12 @@ mjtNum ActDyn(const mjModel* m, const mjData* d, int id) {
   if (muscle_id < 0) return 0;
   const Instance* muscle = instance->fpam ? instance : Find(m, muscle_id);
   const FpamActuator& fpam = *muscle->fpam;
-  if (instance->companion == Companion::kHysteresisState) return fpam.BranchRate(act(id), d->actuator_velocity[id]);
+  if (instance->companion == Companion::kHysteresisState) {
+    // On a joint (routing=planar) the companion's velocity is the joint's rate: Dahl's rate wants the path's.
+    const double velocity =
+        fpam.planar() ? fpam.PathVelocity(d->actuator_length[id], d->actuator_velocity[id]) : d->actuator_velocity[id];
+    return fpam.BranchRate(act(id), velocity);
+  }
   if (muscle->rate_actuator < 0) return fpam.PressureRate(d->ctrl[id], act(id));
   const auto rates =
       fpam.SecondOrderStep(d->ctrl[muscle_id], act(muscle_id), act(muscle->rate_actuator), m->opt.timestep);
@@ -112,7 +122,11 @@ mjtNum ActBias(const mjModel* m, const mjData* d, int id) {
   if (instance == nullptr || !instance->fpam) return 0;  // a companion pulls nothing
   const int state = instance->hysteresis_actuator;
   const double branch = state >= 0 ? d->act[ActivationIndex(m, state)] : 0.0;
-  return -instance->fpam->Force(d->actuator_length[id], d->act[ActivationIndex(m, id)], branch);
+  const double pressure_kpa = d->act[ActivationIndex(m, id)];
+  // A tendon's force pulls (negative along it); a joint's (routing=planar, gear +1 in the muscle's own direction)
+  // is the muscle's torque in that direction.
+  if (instance->fpam->planar()) return instance->fpam->Torque(d->actuator_length[id], pressure_kpa, branch);
+  return -instance->fpam->Force(d->actuator_length[id], pressure_kpa, branch);
 }
 
 // The companion of kind `kind` of the fPAM `id`: the actuator ACTUATOR + suffix configured as the companion's plugin,
@@ -132,12 +146,29 @@ int FindCompanion(const mjModel* m, int id, Companion kind, std::string* problem
     return -1;
   }
   if (m->actuator_trntype[companion] != m->actuator_trntype[id] ||
-      m->actuator_trnid[2 * companion] != m->actuator_trnid[2 * id]) {
-    *problem = "must act on the same tendon as '" + actuator_name(m, id) + "'";
+      m->actuator_trnid[2 * companion] != m->actuator_trnid[2 * id] ||
+      m->actuator_gear[kGearSize * companion] != m->actuator_gear[kGearSize * id]) {
+    *problem = "must act on the same tendon (or joint, with the same gear) as '" + actuator_name(m, id) + "'";
     *blame = companion;
     return -1;
   }
   return companion;
+}
+
+// What is wrong with an fPAM's transmission: routing=spatial reads a tendon's length; routing=planar a hinge's angle
+// in the muscle's own direction, which a gear of +-1 gives (FpamConfig::PlanarPath).
+std::optional<std::string> TransmissionProblem(const mjModel* m, int id, bool planar) {
+  const int type = m->actuator_trntype[id];
+  if (!planar) {
+    if (type != mjTRN_TENDON) return "routing=spatial needs a tendon transmission (or set routing=planar)";
+    return std::nullopt;
+  }
+  const int joint = m->actuator_trnid[2 * id];
+  if (type != mjTRN_JOINT || m->jnt_type[joint] != mjJNT_HINGE)
+    return "routing=planar needs a hinge joint transmission";
+  if (std::abs(std::abs(m->actuator_gear[kGearSize * id]) - 1.0) > 1e-12)
+    return "routing=planar needs gear +1 or -1 (the muscle's own direction)";
+  return std::nullopt;
 }
 
 void CopyError(const std::string& message, char* error, int error_size) {
@@ -204,6 +235,7 @@ SOFTWRIST_PLUGIN_EXPORT int softwrist_plugin_attach(const mjModel* m, char* erro
       CopyError(message, error, error_size);
       return -1;
     }
+    if (const auto problem = TransmissionProblem(m, id, actuator->planar())) return fail(id, *problem);
     (*instances)[static_cast<std::size_t>(id)].fpam = std::move(actuator);
     ++count;
   }

@@ -51,6 +51,7 @@ struct DiagnoseOptions {
   bool rank_beyond_tolerances = false;
   std::string effect_base = "better";
   bool pressures_from_commands = false;
+  std::string routing = "auto";
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -75,6 +76,10 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
     throw UsageError("--effect-base within-tolerances needs the tolerances; it excludes --no-tolerances");
   options.rank_beyond_tolerances = o.rank_beyond_tolerances;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
+  if (o.routing != "auto") {
+    options.routing = sim::parse_routing(o.routing);
+    if (!options.routing) throw UsageError(fmt::format("--routing: '{}' is not auto, spatial or planar", o.routing));
+  }
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
   diagnosis::RealData data = diagnosis::load_real_data(o.real);
@@ -91,6 +96,8 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   const fs::path dir = o.out.empty() ? fs::path(o.real) / "diagnosis" : fs::path(o.out);
   const auto report = diagnosis::write_diagnosis_report(d, dir, {.plots = !o.no_plots, .wall_s = wall});
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
+  out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing),
+                     d.routing_training_error.empty() ? "" : " (the lower training error as placed)");
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);
   out << fmt::format(
@@ -486,6 +493,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--pressures-from-commands", d->pressures_from_commands,
                      "Replay trajectories from their commands through the simulated regulators even where the log "
                      "has the measured pressures (by default those drive the muscles; docs/diagnosis.md)");
+  diagnose->add_option("--routing", d->routing,
+                       "How the model routes the muscles: auto (whichever of spatial and planar replays the training "
+                       "part better; the default), spatial or planar (docs/diagnosis.md)");
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 

@@ -114,6 +114,11 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
   j["also_effects"] = d.also_effects;
+  j["routing"] = {{"used", sim::to_string(d.routing)}};
+  for (const auto& [routing, error] : d.routing_training_error)
+    j["routing"]["training_error_as_placed"][sim::to_string(routing)] = error;
+  for (const auto& [routing, error] : d.routing_corrected_training_error)
+    j["routing"]["training_error_corrected"][sim::to_string(routing)] = error;
   if (!d.beyond_tolerance.empty()) {
     j["beyond_tolerance"] = nlohmann::json::array();
     for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b, true));

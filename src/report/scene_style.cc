@@ -1,6 +1,7 @@
 #include "report/scene_style.h"
 
 #include <algorithm>
+#include <string_view>
 
 namespace softwrist::report {
 
@@ -19,8 +20,13 @@ void colour_muscles_by_pressure(const mjModel* model, const mjData* data, double
   for (int i = 0; i < scene->ngeom; ++i) {
     mjvGeom& geom = scene->geoms[i];
     if (geom.objtype != mjOBJ_TENDON) continue;
+    // The tendon's fPAM acts on it, or (routing planar, sim/device.h) on its joint under the tendon's name.
+    const char* tendon = mj_id2name(model, mjOBJ_TENDON, geom.objid);
     for (int u = 0; u < model->nu; ++u) {
-      if (model->actuator_trntype[u] != mjTRN_TENDON || model->actuator_trnid[2 * u] != geom.objid) continue;
+      const bool on_tendon = model->actuator_trntype[u] == mjTRN_TENDON && model->actuator_trnid[2 * u] == geom.objid;
+      const char* actuator = mj_id2name(model, mjOBJ_ACTUATOR, u);
+      const bool named = tendon != nullptr && actuator != nullptr && std::string_view(tendon) == actuator;
+      if (!on_tendon && !named) continue;
       const int act = u - (model->nu - model->na);  // activations belong to the last na actuators
       const double pressure = act >= 0 ? data->act[act] : data->ctrl[u];
       const float s = static_cast<float>(std::clamp(pressure / max_pressure_kpa, 0.0, 1.0));

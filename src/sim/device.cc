@@ -123,6 +123,14 @@ std::optional<MuscleIndex> muscle_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+const char* to_string(Routing routing) { return routing == Routing::kPlanar ? "planar" : "spatial"; }
+
+std::optional<Routing> parse_routing(std::string_view text) {
+  if (text == "spatial") return Routing::kSpatial;
+  if (text == "planar") return Routing::kPlanar;
+  return std::nullopt;
+}
+
 physics::Muscle DeviceDescription::muscle(int index) const {
   const MuscleMount& mount = muscles.at(static_cast<std::size_t>(index));
   return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius, mount.wrap_surface};
@@ -271,6 +279,12 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   DeviceDescription device{.muscles = {}, .fpam = read_fpam(top.child("fpam"), hysteresis)};
   device.hysteresis = hysteresis;
   read_muscle_mounts(top.child("muscles"), device);
+  const std::string routing = top.text("routing", to_string(Routing::kSpatial));
+  if (const auto parsed = parse_routing(routing)) {
+    device.routing = *parsed;
+  } else {
+    top.fail("routing", fmt::format("'{}' is not spatial or planar", routing));
+  }
   if (top.has("stretch")) read_stretch(top.child("stretch"), device);
   if (top.has("regulator")) read_regulator(top.child("regulator"), device.regulator);
   if (top.has("wrist")) read_wrist(top.child("wrist"), device.wrist);
@@ -333,6 +347,7 @@ std::string device_to_json(const DeviceDescription& device) {
         {"radius_of_gyration_cm", m_to_cm(device.hand.radius_of_gyration)},
         {"length_cm", m_to_cm(device.hand.length)}}},
   };
+  if (device.routing != Routing::kSpatial) root["routing"] = to_string(device.routing);
   if (device.hysteresis.active()) {  // only where the fabric is not the paper's static one
     root["fpam"]["hysteresis"] = device.hysteresis.fraction;
     root["fpam"]["hysteresis_length_mm"] = units::m_to_mm(device.hysteresis.transition_length);

@@ -77,8 +77,19 @@ struct Regulator {
   physics::RegulatorResponse response() const { return {time_constant, vent_time_constant, second_order_time}; }
 };
 
+// How a muscle's length follows the wrist in the MuJoCo model (plugins/fpam/fpam_config.h, FpamConfig::PlanarPath).
+// spatial: a spatial tendon between the mounts, over the wrap cylinder, routed by MuJoCo in 3D: a muscle of one axis
+// also acts on the other (a tensed flexor pushes the hand further from the neutral in deviation, its mounts off the
+// deviation axis) and its moment arm shrinks as the wrist turns about the other axis. planar: each muscle acts on its
+// own joint through the paper's 2D torque model (Eqns. tau1, tau2) at that joint's angle, as the paper and the
+// analytic model have it; the tendon is then drawn only. The two agree when the other joint is at zero.
+enum class Routing { kSpatial, kPlanar };
+const char* to_string(Routing routing);
+std::optional<Routing> parse_routing(std::string_view text);
+
 struct DeviceDescription {
   std::array<MuscleMount, 4> muscles;
+  Routing routing = Routing::kSpatial;
   physics::FpamParameters fpam;        // shared by the four muscles (as in Section Range of motion)
   physics::FpamHysteresis hysteresis;  // the fabric's, shared too; none by default (the paper's static law)
   physics::StretchMode stretch_mode = physics::StretchMode::kNone;

@@ -32,11 +32,22 @@ std::string vec(double x, const std::array<double, 3>& side, double offset) {
 
 // The plugin configuration of one muscle (plugins/fpam/fpam_config.h).
 std::string plugin_config(const DeviceDescription& device, const MuscleMount& mount) {
-  const plugin::FpamConfig config{.law = device.muscle_law(mount),
-                                  .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
-                                  .regulator = device.regulator.response(),
-                                  .hysteresis = device.hysteresis};
+  plugin::FpamConfig config{.law = device.muscle_law(mount),
+                            .max_pressure_kpa = units::pa_to_kpa(device.regulator.max_pressure),
+                            .regulator = device.regulator.response(),
+                            .hysteresis = device.hysteresis};
+  if (device.routing == Routing::kPlanar) config.planar = {mount.placement, mount.wrist_radius, mount.wrap_surface};
   return config.ToText();
+}
+
+// What an fPAM actuator (and its companions) acts on: its tendon (spatial), or its own joint in its own direction
+// (planar; the tendon is then drawn only).
+std::string transmission(const DeviceDescription& device, std::size_t muscle) {
+  if (device.routing == Routing::kSpatial) return fmt::format("tendon=\"{}\"", kMuscleNames[muscle]);
+  const auto index = static_cast<MuscleIndex>(muscle);
+  return fmt::format("joint=\"{}\" gear=\"{:g}\"",
+                     physics::axis_of(index) == physics::WristAxis::kFlexionExtension ? "wrist_fe" : "wrist_ur",
+                     physics::direction_of(index));
 }
 
 // The MJCF of the four muscles: their plugin configurations, mounts and wrap cylinders, tendons and actuators (the
@@ -90,10 +101,10 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
       custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name),
                             plugin_config(device, m));
       actuators += fmt::format(
-          "    <general name=\"{0}\" tendon=\"{0}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
+          "    <general name=\"{0}\" {2} dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
           "biastype=\"user\" ctrllimited=\"true\" ctrlrange=\"0 {1:.10g}\" actlimited=\"true\" actrange=\"0 "
           "{1:.10g}\"/>\n",
-          name, max_kpa);
+          name, max_kpa, transmission(device, i));
     } else {
       actuators += fmt::format("    <general name=\"{0}\" tendon=\"{0}\" gainprm=\"1\"/>\n", name);
     }
@@ -101,14 +112,15 @@ MuscleItems muscle_items(const DeviceDescription& device, const ModelOptions& op
   if (options.actuators != ActuatorKind::kFpamPlugin) return items;
   // The companions: a range of [-1, 1] for the hysteresis branch; none for the pressure's rate. (Through `items`:
   // clang before 16 cannot capture structured bindings.)
-  const auto add_companions = [&items](std::string_view suffix, std::string_view companion, const char* range) {
-    for (const char* muscle : kMuscleNames) {
-      const std::string name = muscle + std::string(suffix);
+  const auto add_companions = [&items, &device](std::string_view suffix, std::string_view companion,
+                                                const char* range) {
+    for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
+      const std::string name = kMuscleNames[i] + std::string(suffix);
       items.custom += fmt::format("    <text name=\"{}\" data=\"{}\"/>\n", plugin::config_text_name(name), companion);
       items.actuators += fmt::format(
-          "    <general name=\"{}\" tendon=\"{}\" dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
+          "    <general name=\"{}\" {} dyntype=\"user\" gaintype=\"fixed\" gainprm=\"0\" "
           "biastype=\"user\"{}/>\n",
-          name, muscle, range);
+          name, transmission(device, i), range);
     }
   };
   if (device.hysteresis.active()) {

@@ -66,6 +66,30 @@ TEST_F(DiagnosisTest, NoEffectGivesNone) {
   const Diagnosis d = run({.device = paper_device()}, paper_device());
   EXPECT_EQ(d.verdict, "none") << d.reason;
   for (const auto& t : d.trials) EXPECT_FALSE(t.significant) << t.experiment << " p = " << t.p_value;
+  EXPECT_EQ(d.routing, sim::Routing::kSpatial);
+}
+
+// A device whose muscles act on their own axes alone (the paper's torque model, as the independent device has them)
+// is no effect: the diagnosis replays it with the routing that fits (DiagnosisOptions::routing), and the spatial
+// model's coupling between the axes is not read as one.
+TEST_F(DiagnosisTest, MusclesActingOnTheirOwnAxesAreRoutedPlanarNotAnEffect) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription planar = paper_device();
+  planar.routing = sim::Routing::kPlanar;
+  const Diagnosis d = run({.device = planar}, paper_device(), {EffectId::kRegulatorLag, EffectId::kMountStretch});
+  EXPECT_EQ(d.routing, sim::Routing::kPlanar);
+  ASSERT_EQ(d.routing_training_error.size(), 2u);
+  EXPECT_EQ(d.routing_training_error[1].first, sim::Routing::kPlanar);
+  EXPECT_LT(d.routing_training_error[1].second, 0.5 * d.routing_training_error[0].second);
+  EXPECT_EQ(d.verdict, "none") << d.reason;
+  // Routed as the files say, the same data show the coupling as a gap.
+  write_synthetic_data({.device = planar}, {.trajectory_s = 12.0}, dir_ / "real");
+  const Diagnosis fixed =
+      diagnose(load_real_data(dir_ / "real"), paper_device(), engine_,
+               {.effects = {EffectId::kRegulatorLag}, .routing = sim::Routing::kSpatial, .bootstrap = 100});
+  EXPECT_EQ(fixed.routing, sim::Routing::kSpatial);
+  EXPECT_TRUE(fixed.routing_training_error.empty());
+  EXPECT_NE(fixed.verdict, "none") << fixed.reason;
 }
 
 // Table torque_measurement_parameters: the device's mounts stretch (K1 = -43.36, K2 = -1097.50 N/cm^2); the nominal
@@ -545,6 +569,10 @@ TEST_F(DiagnosisTest, TwoRigsInOneDirectoryShareTheMountStiffness) {
   // The default model is neither rig: every log names its own.
   const Diagnosis d = diagnose(load_real_data(dir_ / "real"), sim::rom_device(), engine_, {.bootstrap = 100});
   ASSERT_EQ(d.verdict, "mount_stretch") << d.reason;
+  // The rigid nominal's misfit hides the routing as placed (the planar one a little lower): both routings are
+  // diagnosed, and the spatial one the data were simulated with fits far better once the mounts stretch.
+  ASSERT_EQ(d.routing_corrected_training_error.size(), 2u);
+  EXPECT_EQ(d.routing, sim::Routing::kSpatial);
   EXPECT_NEAR(param(d.combination.front(), "K_series_n_per_cm2"), 30.16, 1.5);  // as in the paper's case above
   ASSERT_TRUE(d.corrected.has_value());
   EXPECT_EQ(d.corrected->rigs.size(), 2u);

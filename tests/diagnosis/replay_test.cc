@@ -104,6 +104,39 @@ TEST_F(ReplayDeadTime, OnTheStepsGridItIsTheRowInForce) {
   for (std::size_t i = 0; i < direct.size(); ++i) EXPECT_EQ(replayed[i], direct[i]) << "row " << i;
 }
 
+TEST_F(ReplayDeadTime, ZeroedAnglesTakeTheirOriginFromTheTrainingRowsAlone) {
+  // A real trial need not start at rest, so zeroed angles read 0 at an origin the model cannot know: the replay fits
+  // it per trial and angle as the mean residual of the training rows. The whole log shifted by a constant shifts the
+  // prediction by it, in that angle only; the held-out half's readings do not move the prediction at all.
+  RealData data = data_;
+  data.trials[0].conventions.angles_zeroed_at_start = true;
+  const ModelVariant nominal{.device = sim::paper_device()};
+  const std::vector<PreparedTrial> prepared = prepare(data, engine_, nominal);
+  PreparedTrial angles = prepared.at(0);
+  ASSERT_FALSE(angles.pressures);
+  const std::vector<double> before = engine_.predict(angles, nominal, false);
+  PreparedTrial shifted = angles, heldout_moved = angles;
+  int training_fe = 0, heldout = 0;
+  for (std::size_t i = 0; i < angles.points.size(); ++i) {
+    if (angles.points[i].channel == 0) shifted.points[i].measured += 1.5;
+    if (angles.points[i].heldout) heldout_moved.points[i].measured += 5.0, ++heldout;
+    if (angles.points[i].channel == 0 && !angles.points[i].heldout) ++training_fe;
+  }
+  ASSERT_GT(training_fe, 5);
+  ASSERT_GT(heldout, 5);
+  const std::vector<double> after_shift = engine_.predict(shifted, nominal, false);
+  const std::vector<double> after_heldout = engine_.predict(heldout_moved, nominal, false);
+  double mean_training_residual_fe = 0.0;
+  for (std::size_t i = 0; i < angles.points.size(); ++i) {
+    const double expected_shift = angles.points[i].channel == 0 ? 1.5 : 0.0;
+    EXPECT_NEAR(after_shift[i] - before[i], expected_shift, 1e-9) << "point " << i;
+    EXPECT_NEAR(after_heldout[i], before[i], 1e-12) << "point " << i;
+    if (angles.points[i].channel == 0 && !angles.points[i].heldout)
+      mean_training_residual_fe += (angles.points[i].measured - before[i]) / training_fe;
+  }
+  EXPECT_NEAR(mean_training_residual_fe, 0.0, 1e-9);
+}
+
 TEST_F(ReplayDeadTime, ReplaysAreCountedAndCachedOnesAreNot) {
   const ReplayStats before = engine_.stats();
   flexor_pressure(0.02);

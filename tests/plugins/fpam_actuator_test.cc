@@ -9,6 +9,7 @@
 #include "physics/muscle_torque.h"
 #include "physics/paper_parameters.h"
 #include "physics/pressure_regulator.h"
+#include "physics/torque_geometry.h"
 
 namespace softwrist::plugin {
 namespace {
@@ -39,6 +40,34 @@ TEST(FpamActuator, ForceIsThePhysicsCoresAtTheTendonLength) {
       EXPECT_NEAR(actuator->Force(state.path_length, kpa), state.force, 1e-9) << angle << " " << kpa;
     }
   }
+}
+
+// routing=planar: the muscle's torque about its own joint is the paper's 2D torque model's (Eqns. tau1, tau2 with
+// the mounts' stretch, physics::muscle_state), straight and wrapping, and its path's length rate is -moment arm x
+// the joint's rate (virtual work).
+TEST(FpamActuator, PlanarTorqueIsThePhysicsCoresAtTheJointAngle) {
+  const auto muscle = physics::paper::torque_measurement_flexor(physics::StretchMode::kSelfConsistent);
+  FpamConfig config{.law = muscle};
+  config.planar = FpamConfig::PlanarPath{muscle.placement, muscle.wrist_radius, muscle.wrap_surface};
+  std::string error;
+  const auto actuator = create(config.ToText(), &error);
+  ASSERT_TRUE(actuator) << error;
+  ASSERT_TRUE(actuator->planar());
+  int wrapped = 0;
+  for (double angle : {-1.0, -0.3, 0.0, 0.4, 0.8}) {
+    for (double kpa : {0.0, 34.0, 50.0, 137.0}) {
+      const auto state = physics::muscle_state(muscle, angle, kpa * 1e3);
+      EXPECT_NEAR(actuator->Torque(angle, kpa), state.torque, 1e-12) << angle << " " << kpa;
+      wrapped += state.regime == physics::Regime::kWrapping;
+    }
+    EXPECT_NEAR(actuator->PathVelocity(angle, 0.7), -physics::muscle_state(muscle, angle, 0.0).moment_arm * 0.7, 1e-15);
+  }
+  EXPECT_GT(wrapped, 0);
+  EXPECT_EQ(actuator->Torque(std::nan(""), 50.0), 0.0);
+  const auto spatial = create(kTorqueRig, &error);
+  ASSERT_TRUE(spatial) << error;
+  EXPECT_FALSE(spatial->planar());
+  EXPECT_EQ(spatial->Torque(0.2, 50.0), 0.0);  // a tendon's plugin has no path of its own
 }
 
 TEST(FpamActuator, RegulatorIsFirstOrderTowardsTheClampedCommand) {

@@ -38,6 +38,17 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
   EXPECT_DOUBLE_EQ(a.hysteresis.transition_length, b.hysteresis.transition_length);
   EXPECT_DOUBLE_EQ(a.hysteresis.friction_force, b.hysteresis.friction_force);
   EXPECT_DOUBLE_EQ(a.hysteresis.pressure_friction, b.hysteresis.pressure_friction);
+  ASSERT_EQ(a.planar.has_value(), b.planar.has_value());
+  if (a.planar) {
+    EXPECT_DOUBLE_EQ(a.planar->placement.d1, b.planar->placement.d1);
+    EXPECT_DOUBLE_EQ(a.planar->placement.w1, b.planar->placement.w1);
+    EXPECT_DOUBLE_EQ(a.planar->placement.d2, b.planar->placement.d2);
+    EXPECT_DOUBLE_EQ(a.planar->placement.w2, b.planar->placement.w2);
+    EXPECT_DOUBLE_EQ(a.planar->wrist_radius, b.planar->wrist_radius);
+    EXPECT_DOUBLE_EQ(a.planar->surface.x, b.planar->surface.x);
+    EXPECT_DOUBLE_EQ(a.planar->surface.y, b.planar->surface.y);
+    EXPECT_DOUBLE_EQ(a.planar->surface.aspect, b.planar->surface.aspect);
+  }
 }
 
 // What the model builder writes reads back to the same configuration, for the paper's per-pressure fPAM with
@@ -52,7 +63,12 @@ TEST(FpamConfig, WrittenTextReadsBackToItself) {
       .law = rig, .hysteresis = {.friction_force = 1.2, .pressure_friction = 0.07, .transition_length = 0.004}};
   const FpamConfig curved{.law = {.fpam = physics::FpamParameters::Constant(0.0123, 0.28, {.elastic_curvature = 15.0}),
                                   .rest_length = 0.29}};
-  for (const FpamConfig& written : {table, second_order, constant, hysteretic, frictional, curved}) {
+  FpamConfig planar{.law = rig};
+  planar.planar = FpamConfig::PlanarPath{rig.placement, rig.wrist_radius, rig.wrap_surface};
+  FpamConfig planar_ellipse = planar;
+  planar_ellipse.planar->surface = {.x = 0.004, .y = -0.002, .aspect = 1.4};
+  for (const FpamConfig& written :
+       {table, second_order, constant, hysteretic, frictional, curved, planar, planar_ellipse}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;
@@ -99,6 +115,34 @@ TEST(FpamConfig, ThePhysicsCoresRulesNameTheActuator) {
   EXPECT_FALSE(read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=3", &error));
   EXPECT_NE(error.find("actuator 'flexor': attribute 'K2': must be given when the mounts stretch"), std::string::npos)
       << error;
+}
+
+// routing=planar needs the muscle's 2D path (FpamConfig::PlanarPath), which the physics core validates; the path's
+// attributes without it, an unknown routing or a malformed list name the attribute.
+TEST(FpamConfig, PlanarRoutingNeedsAValidPath) {
+  std::string error;
+  const std::string base = "softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 ";
+  const std::string path = "placement=0.1947,0.0493,0.083,0.0338 wrist_radius=0.0399";
+  EXPECT_TRUE(read(base + "routing=planar " + path, &error)) << error;
+  EXPECT_TRUE(read(base + "routing=planar " + path + " wrap_surface=0.003,0,1.3", &error)) << error;
+  EXPECT_TRUE(read(base + "routing=spatial", &error)) << error;
+  EXPECT_FALSE(read(base + "routing=diagonal " + path, &error));
+  EXPECT_NE(error.find("actuator 'flexor': attribute 'routing': 'diagonal' is not spatial or planar"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(read(base + path, &error));
+  EXPECT_NE(error.find("attribute 'routing': placement, wrist_radius and wrap_surface need routing=planar"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(read(base + "routing=planar wrist_radius=0.0399", &error));
+  EXPECT_NE(error.find("attribute 'placement': missing"), std::string::npos) << error;
+  EXPECT_FALSE(read(base + "routing=planar placement=0.19,0.05,0.08 wrist_radius=0.0399", &error));
+  EXPECT_NE(error.find("attribute 'placement': expected d1,w1,d2,w2"), std::string::npos) << error;
+  EXPECT_FALSE(read(base + "routing=planar " + path + " wrap_surface=0,0", &error));
+  EXPECT_NE(error.find("attribute 'wrap_surface': expected x,y,aspect"), std::string::npos) << error;
+  // The hand mount 1 cm from the joint, inside a 4 cm wrist.
+  EXPECT_FALSE(read(base + "routing=planar placement=0.19,0.05,0.01,0.0 wrist_radius=0.04", &error));
+  EXPECT_NE(error.find("actuator 'flexor': attribute 'placement': "), std::string::npos) << error;
 }
 
 }  // namespace

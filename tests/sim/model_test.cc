@@ -169,6 +169,48 @@ TEST(ModelCrossCheck, EveryMuscleMatchesThe2DModelOnANonCircularWrist) {
 }
 
 // Regulator: a step in commanded pressure reaches 63 % at the time constant; the pressure never leaves [0, max].
+// Routing (device.h): planar, every muscle is the paper's 2D model on its own joint whatever the other joint's angle
+// (and moves only its own); spatial, MuJoCo's tendon agrees with it at the other joint's zero and not away from it:
+// there a flexor, its mounts off the deviation axis, also deviates the hand, and an ulnar muscle's moment arm about
+// its (turned) joint shrinks.
+TEST(ModelCrossCheck, PlanarRoutingIsThe2DModelOnItsOwnJointAlone) {
+  DeviceDescription device = rom_device();
+  device.stretch_mode = physics::StretchMode::kSelfConsistent;
+  DeviceDescription planar_device = device;
+  planar_device.routing = Routing::kPlanar;
+  Sim spatial(device), planar(planar_device);
+  const std::array<double, 4> kpa{60.0, 60.0, 60.0, 60.0};
+  double spatial_cross = 0.0, spatial_own_error = 0.0;
+  for (const double other_deg : {0.0, -25.0, 30.0}) {
+    for (const double own_deg : {-15.0, 0.0, 12.0}) {
+      for (int m = 0; m < 4; ++m) {
+        const auto muscle = static_cast<MuscleIndex>(m);
+        const bool fe_muscle = physics::axis_of(muscle) == physics::WristAxis::kFlexionExtension;
+        const double direction = physics::direction_of(muscle);
+        const double own = deg_to_rad(own_deg), other = deg_to_rad(other_deg);
+        const double fe = fe_muscle ? direction * own : other, ur = fe_muscle ? other : direction * own;
+        const auto expected = physics::muscle_state(device.muscle(m), own, 60.0e3);
+        for (Sim* sim : {&spatial, &planar}) {
+          sim->hold(fe, ur, kpa);
+          const double own_torque = direction * sim->torque(m, fe_muscle ? sim->fe : sim->ur);
+          const double cross_torque = sim->torque(m, fe_muscle ? sim->ur : sim->fe);
+          if (sim == &planar) {
+            EXPECT_NEAR(own_torque, expected.torque, 1e-9) << m << " " << own_deg << " " << other_deg;
+            EXPECT_EQ(cross_torque, 0.0);
+          } else if (other_deg == 0.0) {
+            EXPECT_NEAR(own_torque, expected.torque, std::max(0.02, 0.02 * std::abs(expected.torque)));
+          } else {
+            spatial_cross = std::max(spatial_cross, std::abs(cross_torque));
+            spatial_own_error = std::max(spatial_own_error, std::abs(own_torque - expected.torque));
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(spatial_cross, 0.02);      // [N m] the spatial tendons' coupling this test documents
+  EXPECT_GT(spatial_own_error, 0.02);  // [N m]
+}
+
 TEST(ModelRegulator, StepReaches63PercentAtTheTimeConstantAndStaysInRange) {
   DeviceDescription device = paper_device();
   Sim sim(device);
@@ -394,13 +436,14 @@ TEST(ModelLoad, UserGainAndFixedZeroGainMoveTheSame) {
 
 // A malformed model or plugin configuration fails at load, naming the actuator and the attribute.
 TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
-  const std::string xml = build_model_xml(paper_device());
-  auto replaced = [&](const std::string& from, const std::string& to) {
-    std::string text = xml;
-    const auto at = text.find(from);
+  // `model` with its first `from` replaced by `to`.
+  const auto replaced_in = [](std::string model, const std::string& from, const std::string& to) {
+    const auto at = model.find(from);
     EXPECT_NE(at, std::string::npos) << from;
-    return text.replace(at, from.size(), to);
+    return model.replace(at, from.size(), to);
   };
+  const std::string xml = build_model_xml(paper_device());
+  auto replaced = [&](const std::string& from, const std::string& to) { return replaced_in(xml, from, to); };
   std::vector<std::pair<std::string, std::string>> cases = {
       {replaced("softwrist.fpam rest_length=0.32 ", "softwrist.fpam "),
        "actuator 'flexor': attribute 'rest_length': missing"},
@@ -421,10 +464,7 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
   hysteretic.hysteresis.fraction = 0.1;
   const std::string with_states = build_model_xml(hysteretic);
   auto state_replaced = [&](const std::string& from, const std::string& to) {
-    std::string text = with_states;
-    const auto at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    return text.replace(at, from.size(), to);
+    return replaced_in(with_states, from, to);
   };
   cases.push_back({state_replaced("    <general name=\"flexor_hysteresis\" tendon=\"flexor\" dyntype=\"user\" "
                                   "gaintype=\"fixed\" gainprm=\"0\" biastype=\"user\" actlimited=\"true\" "
@@ -433,7 +473,25 @@ TEST(ModelLoad, MalformedConfigurationsFailAtLoadNamingTheProblem) {
                    "actuator 'flexor': has hysteresis but no actuator 'flexor_hysteresis'"});
   cases.push_back(
       {state_replaced("name=\"flexor_hysteresis\" tendon=\"flexor\"", "name=\"flexor_hysteresis\" tendon=\"extensor\""),
-       "actuator 'flexor_hysteresis': must act on the same tendon as 'flexor'"});
+       "actuator 'flexor_hysteresis': must act on the same tendon (or joint, with the same gear) as 'flexor'"});
+  // The transmission its routing reads: a tendon's length (spatial), its own hinge's angle with gear +-1 (planar).
+  cases.push_back(
+      {replaced("<general name=\"flexor\" tendon=\"flexor\"", "<general name=\"flexor\" joint=\"wrist_fe\""),
+       "actuator 'flexor': routing=spatial needs a tendon transmission"});
+  DeviceDescription planar = hysteretic;
+  planar.routing = Routing::kPlanar;
+  const std::string planar_xml = build_model_xml(planar);
+  auto planar_replaced = [&](const std::string& from, const std::string& to) {
+    return replaced_in(planar_xml, from, to);
+  };
+  cases.push_back({planar_replaced("name=\"radial\" joint=\"wrist_ur\" gear=\"-1\"",
+                                   "name=\"radial\" joint=\"wrist_ur\" gear=\"-2\""),
+                   "actuator 'radial': routing=planar needs gear +1 or -1"});
+  cases.push_back({planar_replaced("name=\"ulnar_hysteresis\" joint=\"wrist_ur\" gear=\"1\"",
+                                   "name=\"ulnar_hysteresis\" joint=\"wrist_ur\" gear=\"-1\""),
+                   "actuator 'ulnar_hysteresis': must act on the same tendon (or joint, with the same gear)"});
+  cases.push_back({planar_replaced("name=\"flexor\" joint=\"wrist_fe\"", "name=\"flexor\" tendon=\"flexor\""),
+                   "actuator 'flexor': routing=planar needs a hinge joint transmission"});
   // A second-order regulator without its pressure's rate.
   DeviceDescription second_order = paper_device();
   second_order.regulator.second_order_time = 0.03;
