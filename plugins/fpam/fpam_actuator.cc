@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
@@ -52,15 +53,25 @@ double FpamActuator::Force(double tendon_length, double regulated_kpa, double br
                                    physics::pressure_end_force(pressure, coefficients));
 }
 
+namespace {
+
+// The path at a joint angle clamped to [-pi, pi], where the 2D geometry is defined (it throws beyond, and nothing may
+// throw through MuJoCo's C code: a diverging simulation is caught by its instability check instead).
+physics::MusclePath PathAt(const physics::PlacementGeometry& geometry, double own_angle) {
+  return geometry.at(std::clamp(own_angle, -std::numbers::pi, std::numbers::pi));
+}
+
+}  // namespace
+
 double FpamActuator::Torque(double own_angle, double regulated_kpa, double branch) const {
   if (!geometry_ || !std::isfinite(own_angle)) return 0.0;
-  const physics::MusclePath path = geometry_->at(own_angle);
+  const physics::MusclePath path = PathAt(*geometry_, own_angle);
   return Force(path.length, regulated_kpa, branch) * path.moment_arm;
 }
 
 double FpamActuator::PathVelocity(double own_angle, double own_rate) const {
   if (!geometry_ || !std::isfinite(own_angle) || !std::isfinite(own_rate)) return 0.0;
-  return -geometry_->at(own_angle).moment_arm * own_rate;
+  return -PathAt(*geometry_, own_angle).moment_arm * own_rate;
 }
 
 double FpamActuator::BranchRate(double branch, double tendon_velocity) const {

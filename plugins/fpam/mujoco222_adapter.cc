@@ -3,10 +3,11 @@
 // configuration is the text <custom><text name="plugin:ACTUATOR" data="softwrist.fpam key=value ..."/>.
 //  - mjcb_act_dyn: the regulator, act_dot = (clamp(ctrl) - act) / tau;
 //  - mjcb_act_gain: 0 (the force is not linear in the activation);
-//  - mjcb_act_bias: minus the fPAM's pull at the tendon's length and the regulated pressure (act).
-// A muscle with hysteresis has a companion actuator on its tendon (FpamConfig::kHysteresisStatePlugin) whose act is
-// the hysteresis branch: act_dyn gives Dahl's rate from the tendon's velocity, and its force is 0. A muscle whose
-// regulator is of second order has one (kPressureRatePlugin) whose act is the regulated pressure's rate.
+//  - mjcb_act_bias: minus the fPAM's pull at the tendon's length and the regulated pressure (act); with routing=planar
+//    (the actuator on the muscle's own joint) the muscle's torque at the joint's angle.
+// A muscle with hysteresis has a companion actuator on its tendon or joint (FpamConfig::kHysteresisStatePlugin) whose
+// act is the hysteresis branch: act_dyn gives Dahl's rate from the tendon's (or 2D path's) velocity; its force is 0. A
+// muscle whose regulator is of second order has one (kPressureRatePlugin) whose act is the regulated pressure's rate.
 // This is the only file that sees mjModel/mjData; moving to MuJoCo 3 replaces it with an mjpPlugin registration.
 //
 // Global state: MuJoCo 2.2.2's callbacks are process-wide function pointers, so this file keeps the one registry a

@@ -100,6 +100,7 @@ Calibration calibrate_from_logs(const fs::path& log_dir, const sim::DeviceDescri
   Calibration c{.diagnosis = diagnosis::diagnose(std::move(data), nominal, engine, d), .calibrated = nominal};
   const diagnosis::Diagnosis& dx = c.diagnosis;
   if (dx.corrected) c.calibrated = dx.corrected->device;
+  c.calibrated.routing = dx.routing;  // the routing the data chose (diagnosis.h), in the calibrated placement file
   c.parameters = diagnosis::combination_intervals(dx, nominal, engine);
   for (const auto& f : dx.combination) c.effects_applied.push_back(f.name);
   for (const auto& f : dx.effects) {

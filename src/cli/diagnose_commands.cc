@@ -96,8 +96,10 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   const fs::path dir = o.out.empty() ? fs::path(o.real) / "diagnosis" : fs::path(o.out);
   const auto report = diagnosis::write_diagnosis_report(d, dir, {.plots = !o.no_plots, .wall_s = wall});
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
-  out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing),
-                     d.routing_training_error.empty() ? "" : " (the lower training error as placed)");
+  const char* why = !d.routing_corrected_training_error.empty() ? " (diagnosed both ways: the better fit)"
+                    : !d.routing_training_error.empty()         ? " (the clearly lower training error as placed)"
+                                                                : "";
+  out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing), why);
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);
   out << fmt::format(

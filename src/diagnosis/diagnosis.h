@@ -46,11 +46,13 @@ enum class EffectBase {
 
 struct DiagnosisOptions {
   std::vector<EffectId> effects;  // empty: the whole catalogue
-  // How the model routes the muscles (sim::Routing): as the placement files say, or (nullopt) whichever of spatial
-  // and planar replays the training part with the lower error, the nominal as placed. A device is not a MuJoCo
-  // model: whether a muscle of one axis acts on the other, and how much, is a model-class question the placement
-  // file cannot answer (the independent device's muscles act on their own axes alone, as the paper's torque model
-  // has them; its ellipse trials differ from the spatial replay by 3-4 deg, from the planar one by 0.05-0.15 deg).
+  // How the model routes the muscles (sim::Routing), on the nominal and every rig alike: this one, or (nullopt) the
+  // one the data choose (diagnosis.cc, routings_to_try: the nominal as placed replays the training part clearly
+  // better with it, or, where neither is clearly better, its diagnosis's corrected model fits better). A device is not
+  // a MuJoCo model: whether a muscle of one axis acts on the other, and how much, is a model-class question the
+  // placement file cannot answer (the independent device's muscles act on their own axes alone, as the paper's torque
+  // model has them; its ellipse trials differ from the spatial replay by 3-4 deg, from the planar one by 0.05-0.15
+  // deg).
   std::optional<sim::Routing> routing;
   // Effects fitted in parallel; above 1, the effects' searches from the nominal as placed beside the tolerance fit,
   // each on this many threads.
@@ -181,8 +183,8 @@ struct Diagnosis {
   // file's first.
   sim::Routing routing = sim::Routing::kSpatial;
   std::vector<std::pair<sim::Routing, double>> routing_training_error;
-  // Where both routings were diagnosed (their nominals' errors within a factor 2): each one's corrected model's
-  // training error, weighed alike; the lower is kept.
+  // Where both routings were diagnosed (their nominals' errors within a factor 2): each one's lowest training error
+  // of its corrected model and its nominal within the tolerances, weighed alike; the lower is kept.
   std::vector<std::pair<sim::Routing, double>> routing_corrected_training_error;
   std::vector<EffectFit> effects;                         // each effect alone: the leader, then best first
   std::vector<EffectFit> combination;                     // the greedy combination, in the order the effects joined

@@ -9,7 +9,9 @@
 #include "io/csv.h"
 #include "physics/mount_points.h"
 #include "physics/paper_parameters.h"
+#include "physics/torque_geometry.h"
 #include "physics/units.h"
+#include "sim/device.h"
 #include "sim/wrist_sim.h"
 
 namespace softwrist::experiments {
@@ -250,7 +252,14 @@ std::vector<Row> TorqueValidation::run_case(int index) const {
   // Where the markers on the mounts are: the mounts moved by the device's own stretching at the simulated force.
   const auto& mount = device_->description.muscles[muscle_];
   const double own_angle = physics::direction_of(muscle_) * actual_angle;
-  const double force = std::abs(wrist.data()->actuator_force[muscle_]);
+  // The pull: minus the tendon's actuator force, or (routing planar: the actuator's force is its torque) the torque
+  // over the 2D path's moment arm.
+  const bool planar = device_->description.routing == sim::Routing::kPlanar;
+  const double force =
+      planar ? std::abs(
+                   wrist.muscle_torque(muscle_) /
+                   physics::muscle_path(mount.placement, mount.wrist_radius, own_angle, mount.wrap_surface).moment_arm)
+             : std::abs(wrist.data()->actuator_force[muscle_]);
   const auto points = device_->description.stretch_mode == physics::StretchMode::kNone
                           ? physics::mount_points(mount.placement, own_angle)
                           : physics::stretched_mount_points(mount.placement, mount.wrist_radius, own_angle, force,

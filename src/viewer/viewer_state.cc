@@ -117,10 +117,14 @@ std::vector<std::pair<std::string, std::string>> ViewerState::overlay(const mjMo
   for (int u = 0; u < model->nu && u < static_cast<int>(actuators_.size()); ++u) {
     const int act = u - (model->nu - model->na);  // activations belong to the last na actuators
     const std::string regulated = act >= 0 ? fmt::format(", regulated {:5.1f}", data->act[act]) : "";
+    // On a tendon an fPAM pulls (force <= 0); on its own joint (routing planar, sim/device.h) its force is its
+    // torque in its own direction.
+    const bool on_joint = model->actuator_trntype[u] == mjTRN_JOINT;
+    const std::string effort = on_joint ? fmt::format("torque {:5.2f} N m", data->actuator_force[u])
+                                        : fmt::format("pull {:5.1f} N", std::max(0.0, -data->actuator_force[u]));
     rows.emplace_back(
         fmt::format("{}{} {}", u == selected_ ? "> " : "  ", u + 1, actuators_[static_cast<std::size_t>(u)].name),
-        fmt::format("command {:5.1f}{} kPa, pull {:5.1f} N", commands_kpa_[static_cast<std::size_t>(u)], regulated,
-                    std::max(0.0, -data->actuator_force[u])));  // fPAMs pull: force <= 0
+        fmt::format("command {:5.1f}{} kPa, {}", commands_kpa_[static_cast<std::size_t>(u)], regulated, effort));
   }
   return rows;
 }

@@ -20,6 +20,7 @@
 #include "diagnosis/benchmark.h"
 #include "diagnosis/csv_import.h"
 #include "diagnosis/gap_problem.h"
+#include "diagnosis/parameter_intervals.h"
 #include "diagnosis/synthetic_device.h"
 #include "diagnosis/tolerance_fit.h"
 #include "io/csv.h"
@@ -90,6 +91,33 @@ TEST_F(DiagnosisTest, MusclesActingOnTheirOwnAxesAreRoutedPlanarNotAnEffect) {
   EXPECT_EQ(fixed.routing, sim::Routing::kSpatial);
   EXPECT_TRUE(fixed.routing_training_error.empty());
   EXPECT_NE(fixed.verdict, "none") << fixed.reason;
+}
+
+// The paper's withheld stretching (Table torque_measurement_parameters) on a device whose muscles act on their own
+// axes: named, with the series stiffness, and the parameters' intervals (a calibration's) replay the data routed as
+// the diagnosis chose, the placement files being spatial.
+TEST_F(DiagnosisTest, WithheldStretchingOnAPlanarDeviceKeepsItsRoutingInTheIntervals) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription planar = paper_device();
+  planar.routing = sim::Routing::kPlanar;
+  sim::DeviceDescription rigid = paper_device();
+  rigid.stretch_mode = physics::StretchMode::kNone;
+  const Diagnosis d = run({.device = planar}, rigid, {EffectId::kMountStretch, EffectId::kRegulatorLag});
+  ASSERT_EQ(d.verdict, "mount_stretch") << d.reason;
+  EXPECT_EQ(d.routing, sim::Routing::kPlanar);
+  EXPECT_NEAR(param(d.combination.front(), "K_series_n_per_cm2"), 30.16, 1.5);
+  const std::vector<ParameterInterval> intervals = combination_intervals(d, rigid, engine_);
+  bool found = false;
+  for (const ParameterInterval& p : intervals) {
+    if (p.name != "K_series_n_per_cm2") continue;
+    found = true;
+    // Replayed spatial (the files' routing), the same fit spread 4.3-216 N/cm^2.
+    EXPECT_LE(p.low, p.value);
+    EXPECT_GE(p.high, p.value);
+    EXPECT_NEAR(p.low, 30.16, 1.5);
+    EXPECT_NEAR(p.high, 30.16, 1.5);
+  }
+  EXPECT_TRUE(found);
 }
 
 // Table torque_measurement_parameters: the device's mounts stretch (K1 = -43.36, K2 = -1097.50 N/cm^2); the nominal
