@@ -30,29 +30,6 @@ std::runtime_error nothing_left(const Diagnosis& d) {
                                 : "no trial left to diagnose (see the problems listed above)");
 }
 
-// Trials the model cannot replay are reported and left out (a rig's placement file that cannot be read, a pressure
-// beyond the regulators); so is a trial whose noise cannot be estimated (constant data), which cannot be weighed
-// against the others. Loads each rig the trials name into `nominal`; fills d.data.trials and d.prepared.
-void prepare_points(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nominal);
-
-void prepare_trials(Diagnosis& d, ReplayEngine& engine, ModelVariant& nominal) {
-  std::vector<Trial> replayable;
-  for (Trial& trial : d.data.trials) {
-    try {
-      const auto& placement = trial.conventions.placement;
-      if (!placement.empty() && !nominal.rigs.contains(placement))
-        nominal.rigs.emplace(placement, sim::load_device(placement));
-      engine.check_replayable(trial, nominal);
-      replayable.push_back(std::move(trial));
-    } catch (const std::exception& e) {
-      d.problems.push_back({trial.file, e.what()});
-    }
-  }
-  d.data.trials = std::move(replayable);
-  if (d.data.trials.empty()) throw nothing_left(d);
-  prepare_points(d, engine, nominal);
-}
-
 // The trials' points, noise and splits (prepare): the noise of a task repeated comes from the nominal's residuals.
 void prepare_points(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nominal) {
   d.prepared = prepare(d.data, engine, nominal);
@@ -71,16 +48,25 @@ void prepare_points(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nomi
   if (d.prepared.empty()) throw nothing_left(d);
 }
 
-ModelVariant routed(ModelVariant variant, sim::Routing routing) {
-  variant.device.routing = routing;
-  for (auto& [placement, rig] : variant.rigs) rig.routing = routing;
-  return variant;
-}
-
-bool routed_as(const ModelVariant& variant, sim::Routing routing) {
-  return variant.device.routing == routing &&
-         std::all_of(variant.rigs.begin(), variant.rigs.end(),
-                     [&](const auto& rig) { return rig.second.routing == routing; });
+// Trials the model cannot replay are reported and left out (a rig's placement file that cannot be read, a pressure
+// beyond the regulators); so is a trial whose noise cannot be estimated (constant data), which cannot be weighed
+// against the others. Loads each rig the trials name into `nominal`; fills d.data.trials and d.prepared.
+void prepare_trials(Diagnosis& d, ReplayEngine& engine, ModelVariant& nominal) {
+  std::vector<Trial> replayable;
+  for (Trial& trial : d.data.trials) {
+    try {
+      const auto& placement = trial.conventions.placement;
+      if (!placement.empty() && !nominal.rigs.contains(placement))
+        nominal.rigs.emplace(placement, sim::load_device(placement));
+      engine.check_replayable(trial, nominal);
+      replayable.push_back(std::move(trial));
+    } catch (const std::exception& e) {
+      d.problems.push_back({trial.file, e.what()});
+    }
+  }
+  d.data.trials = std::move(replayable);
+  if (d.data.trials.empty()) throw nothing_left(d);
+  prepare_points(d, engine, nominal);
 }
 
 // The routings to diagnose with, in order (DiagnosisOptions::routing): the one fixed; or the one whose nominal as
@@ -104,8 +90,9 @@ std::vector<sim::Routing> routings_to_try(Diagnosis& d, ReplayEngine& engine, co
   const sim::Routing other = filed == sim::Routing::kSpatial ? sim::Routing::kPlanar : sim::Routing::kSpatial;
   GapProblem probe(in_mujoco, engine);
   for (const sim::Routing routing : {filed, other}) {
-    d.routing_training_error.emplace_back(routing,
-                                          probe.training_error(probe.evaluate(routed(nominal, routing), true)));
+    ModelVariant routed = nominal;
+    routed.route(routing);
+    d.routing_training_error.emplace_back(routing, probe.training_error(probe.evaluate(routed, true)));
   }
   const double e_filed = d.routing_training_error[0].second, e_other = d.routing_training_error[1].second;
   const std::vector<sim::Routing> order = e_other < e_filed ? std::vector{other, filed} : std::vector{filed, other};
@@ -116,8 +103,8 @@ std::vector<sim::Routing> routings_to_try(Diagnosis& d, ReplayEngine& engine, co
 // The nominal routed as chosen; the trials prepared again where that changes a rig's routing.
 void apply_routing(Diagnosis& d, ReplayEngine& engine, ModelVariant& nominal, sim::Routing routing) {
   d.routing = routing;
-  if (routed_as(nominal, routing)) return;
-  nominal = routed(std::move(nominal), routing);
+  if (nominal.routed_as(routing)) return;
+  nominal.route(routing);
   prepare_points(d, engine, nominal);
 }
 

@@ -136,6 +136,16 @@ const sim::DeviceDescription& ModelVariant::device_for(const Trial& trial) const
   return it->second;
 }
 
+void ModelVariant::route(sim::Routing routing) {
+  device.routing = routing;
+  for (auto& [placement, rig] : rigs) rig.routing = routing;
+}
+
+bool ModelVariant::routed_as(sim::Routing routing) const {
+  return device.routing == routing &&
+         std::all_of(rigs.begin(), rigs.end(), [&](const auto& rig) { return rig.second.routing == routing; });
+}
+
 namespace {
 
 // The part of effect `id` that lives in a device description (placement file).

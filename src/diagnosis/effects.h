@@ -67,6 +67,9 @@ struct ModelVariant {
 
   // The device of the trial's rig: its placement file's, or `device` when it names none.
   const sim::DeviceDescription& device_for(const Trial& trial) const;
+  // The device and every rig routed alike (sim::Routing; the diagnosis's choice, DiagnosisOptions::routing).
+  void route(sim::Routing routing);
+  bool routed_as(sim::Routing routing) const;
 };
 
 // Switches effect `id` on in `variant` with `values` in its spec's units (one per parameter). Values outside a

@@ -69,14 +69,10 @@ std::vector<ParameterInterval> combination_intervals(const Diagnosis& d, const s
   // The nominal with the rigs its trials name, as the diagnosis prepared it (their placement files, routed as the
   // diagnosis chose).
   ModelVariant base{.device = nominal};
-  base.device.routing = d.routing;
   if (d.corrected) {
-    for (const auto& [placement, rig] : d.corrected->rigs) {
-      sim::DeviceDescription device = sim::load_device(placement);
-      device.routing = d.routing;
-      base.rigs.emplace(placement, std::move(device));
-    }
+    for (const auto& [placement, rig] : d.corrected->rigs) base.rigs.emplace(placement, sim::load_device(placement));
   }
+  base.route(d.routing);
   std::vector<PreparedTrial> prepared = d.prepared;
   const GapProblem problem(prepared, engine);
   std::vector<std::vector<double>> values;
