@@ -453,6 +453,8 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
   bench->add_option("--min-level", b->independent.min_level,
                     "independent: each effect's level is drawn log-uniform in [this, 1] (default 0.2)");
   add_effect_base_option(*bench, b->effect_base);
+  bench->add_flag("--rank-beyond-tolerances", b->independent.rank_beyond_tolerances,
+                  "independent: diagnose as diagnose --rank-beyond-tolerances does (experimental)");
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");

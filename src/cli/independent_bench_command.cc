@@ -79,6 +79,7 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
                                 .jobs = a.jobs};
   if (!a.pairs) o.pairs.clear();
   o.diagnosis.effect_base = a.effect_base;
+  o.diagnosis.rank_beyond_tolerances = a.rank_beyond_tolerances;
   try {
     std::tie(o.shard_index, o.shard_count) = experiments::parse_shard(a.shard);
   } catch (const std::invalid_argument& e) {

@@ -197,6 +197,7 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
         m.wrap_surface.aspect *= values[4];
         physics::validate(m.placement, m.wrist_radius, m.wrap_surface);
       }
+      sim::check_hand_mount_clearance(device);
       break;
     case EffectId::kPassiveWrist:
       device.wrist.stiffness_fe *= values[0];

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <tuple>
+#include <utility>
 
 #include "physics/errors.h"
 #include "physics/plausible_ranges.h"
@@ -11,6 +13,18 @@
 namespace softwrist::physics {
 
 const char* to_string(Regime regime) { return regime == Regime::kWrapping ? "wrapping" : "straight"; }
+
+namespace {
+
+// The surface's centre C nearer O than the hand mount, which turns about O: C -> P2 then stays within a right angle of
+// O -> P2, and its polar angle follows the joint's continuously (PlacementGeometry::off_centre_at).
+void require_centre_within_hand_mount(const Placement& placement, WrapSurface surface) {
+  const double oc = std::hypot(surface.x, surface.y), r2 = std::hypot(placement.d2, placement.w2);
+  require(oc < r2, "wrap centre distance |OC| [m]", oc,
+          "must be less than the hand mount's distance R2 from the joint (the mount turns about O, around C)");
+}
+
+}  // namespace
 
 void validate(const Placement& placement, double wrist_radius, WrapSurface surface) {
   require_positive("placement d1 [m]", placement.d1);
@@ -32,24 +46,59 @@ void validate(const Placement& placement, double wrist_radius, WrapSurface surfa
     require(value <= plausible::kMaxLength, name, value, "must be at most 10 (m; the arm is not that long)");
   }
   if (!surface.circular()) {
-    // Scaled so that the ellipse is the unit circle, the forearm mount lies outside it; the hand mount, turning about
-    // O, stays beyond the larger semi-axis.
+    // Scaled so that the ellipse is the unit circle, the forearm mount lies outside it, and so does the hand mount at
+    // the joint's zero (where it comes closer as the wrist turns: hand_mount_clearance over the joint's range).
     const double a = surface.aspect * wrist_radius;
     const double u = std::hypot((placement.d1 + surface.x) / a, (placement.w1 - surface.y) / wrist_radius);
     require(u > 1.0, "forearm mount P1", u, "must lie outside the wrist's ellipse (its scaled distance above 1)");
-    const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(surface.x, surface.y);
-    require(closest > std::max(a, wrist_radius), "hand mount distance R2 - |OC| [m]", closest,
-            "must exceed the ellipse's larger semi-axis (mount outside the wrist at every angle)");
+    require_centre_within_hand_mount(placement, surface);
+    const double v = hand_mount_clearance(placement, wrist_radius, surface, 0.0);
+    require(v > 1.0, "hand mount P2", v,
+            "must lie outside the wrist's ellipse at the joint's zero (its scaled distance above 1)");
     return;
   }
   const double r1 = std::hypot(placement.d1 + surface.x, placement.w1 - surface.y);  // |P1 - C|
   require(r1 > wrist_radius, "forearm mount distance R1 [m]", r1,
           "must exceed the wrist radius r_w (mount outside the wrist)");
-  // The hand mount turns about O: its closest approach to C is R2 - |OC|.
-  const double closest = std::hypot(placement.d2, placement.w2) - std::hypot(surface.x, surface.y);
-  require(closest > wrist_radius,
-          surface.at_joint() ? "hand mount distance R2 [m]" : "hand mount distance R2 - |OC| [m]", closest,
-          "must exceed the wrist radius r_w (mount outside the wrist at every angle)");
+  if (surface.at_joint()) {
+    const double r2 = std::hypot(placement.d2, placement.w2);  // the same at every angle
+    require(r2 > wrist_radius, "hand mount distance R2 [m]", r2,
+            "must exceed the wrist radius r_w (mount outside the wrist)");
+    return;
+  }
+  require_centre_within_hand_mount(placement, surface);
+  const double v = hand_mount_clearance(placement, wrist_radius, surface, 0.0);
+  require(v > 1.0, "hand mount distance |P2 - C| / r_w", v,
+          "must exceed 1 at the joint's zero (mount outside the wrist circle)");
+}
+
+double hand_mount_clearance(const Placement& placement, double wrist_radius, WrapSurface surface, double max_angle) {
+  const double a = surface.aspect * wrist_radius, b = wrist_radius;
+  const double r2 = std::hypot(placement.d2, placement.w2), polar = std::atan2(placement.w2, placement.d2);
+  const auto scaled_distance = [&](double theta) {
+    return std::hypot((r2 * std::cos(polar + theta) - surface.x) / a, (r2 * std::sin(polar + theta) - surface.y) / b);
+  };
+  // Sampled at most every degree, then the least sample's neighbourhood refined by golden-section search (the
+  // distance is smooth in theta and has at most two minima on the circle the mount turns on).
+  const double reach = std::min(std::abs(max_angle), std::numbers::pi);
+  const int samples = std::max(1, static_cast<int>(std::ceil(2.0 * reach / (std::numbers::pi / 180.0))));
+  double best = -reach, least = scaled_distance(-reach);
+  for (int k = 1; k <= samples; ++k) {
+    const double theta = -reach + 2.0 * reach * k / samples;
+    if (const double d = scaled_distance(theta); d < least) std::tie(best, least) = std::pair(theta, d);
+  }
+  const double step = 2.0 * reach / samples;
+  double lo = std::max(-reach, best - step), hi = std::min(reach, best + step);
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int i = 0; i < 40 && hi - lo > 1e-9; ++i) {
+    const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+    if (scaled_distance(m1) < scaled_distance(m2)) {
+      hi = m2;
+    } else {
+      lo = m1;
+    }
+  }
+  return std::min(least, scaled_distance(0.5 * (lo + hi)));
 }
 
 namespace {
@@ -83,6 +132,7 @@ double wrap_angle_at_zero(const Placement& placement, double r_w, double psi) {
 struct EllipticWrap {
   double t1 = 0.0, t2 = 0.0;
   double q1x = 0.0, q1y = 0.0, q2x = 0.0, q2y = 0.0;
+  bool p2_inside = false;  // the hand mount within the ellipse (beyond the joint's reach): Q2 its foot (header)
 };
 
 EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, double p2x, double p2y) {
@@ -93,7 +143,9 @@ EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSur
   if (polar1 < 0.0) polar1 += 2.0 * std::numbers::pi;
   EllipticWrap w;
   w.t1 = polar1 - std::acos(1.0 / std::sqrt(u1x * u1x + u1y * u1y));
-  w.t2 = std::atan2(u2y, u2x) + std::acos(1.0 / std::sqrt(u2x * u2x + u2y * u2y));
+  const double n2 = std::sqrt(u2x * u2x + u2y * u2y);
+  w.p2_inside = n2 <= 1.0;
+  w.t2 = std::atan2(u2y, u2x) + (w.p2_inside ? 0.0 : std::acos(1.0 / n2));
   w.q1x = c.x + a * std::cos(w.t1);
   w.q1y = c.y + b * std::sin(w.t1);
   w.q2x = c.x + a * std::cos(w.t2);
@@ -195,15 +247,20 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
   // (under pi/2: validate keeps |OC| below R2).
   const double polar_p2 = angle.radians + std::atan2(w2, d2) + std::atan2(p2x * by - p2y * bx, p2x * bx + p2y * by);
   const double q1_polar = std::numbers::pi / 2.0 - tangent_angle_;
-  const double q2_polar = polar_p2 + std::acos(r_w / r2);
+  // A mount inside the circle (beyond the joint's reach, hand_mount_clearance): the path continued through its foot
+  // on the circle (header), Q2 at the mount's own polar angle.
+  const bool inside = r2 <= r_w;
+  const double q2_polar = polar_p2 + (inside ? 0.0 : std::acos(r_w / r2));
 
   MusclePath path;
   path.tangent_angle = tangent_angle_;
   path.wrap_angle = q1_polar - q2_polar;
   if (path.wrap_angle > 0.0) {
     path.regime = Regime::kWrapping;
-    path.length = tangent_length1_ + r_w * path.wrap_angle + std::sqrt(r2 * r2 - r_w * r_w);
-    const double ux = surface_.x + r_w * std::cos(q2_polar) - p2x, uy = surface_.y + r_w * std::sin(q2_polar) - p2y;
+    path.length = tangent_length1_ + r_w * path.wrap_angle + (inside ? r_w - r2 : std::sqrt(r2 * r2 - r_w * r_w));
+    // Towards Q2; inside, along the circle at the foot (the limit of P2 -> Q2 as the mount reaches the circle).
+    const double ux = inside ? -std::sin(q2_polar) : surface_.x + r_w * std::cos(q2_polar) - p2x;
+    const double uy = inside ? std::cos(q2_polar) : surface_.y + r_w * std::sin(q2_polar) - p2y;
     path.moment_arm = (p2x * uy - p2y * ux) / std::sqrt(ux * ux + uy * uy);
   } else {
     set_straight(path, placement_, angle.cos, angle.sin, p2x, p2y);
@@ -229,7 +286,13 @@ MusclePath PlacementGeometry::elliptic_at(const JointAngle& angle) const {
   const double ux = w.q2x - p2x, uy = w.q2y - p2y;  // P2 -> Q2
   const double tail = std::sqrt(ux * ux + uy * uy);
   path.length = std::hypot(w.q1x + placement_.d1, w.q1y - placement_.w1) + ellipse_arc(a, b, w.t2, w.t1) + tail;
-  path.moment_arm = (p2x * uy - p2y * ux) / tail;
+  if (w.p2_inside) {
+    // Along the ellipse at the foot, towards larger t: the limit of P2 -> Q2 as the mount reaches the ellipse.
+    const double tx = -a * std::sin(w.t2), ty = b * std::cos(w.t2);
+    path.moment_arm = (p2x * ty - p2y * tx) / std::sqrt(tx * tx + ty * ty);
+  } else {
+    path.moment_arm = (p2x * uy - p2y * ux) / tail;
+  }
   return path;
 }
 

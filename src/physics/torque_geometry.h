@@ -72,10 +72,20 @@ struct MusclePath {
 };
 
 // Throws InvalidParameter unless the placement is finite, d1, d2 > 0, w1, w2 >= 0, r_w > 0, the aspect within
-// [0.25, 4], and both mounts lie outside the wrist surface at every joint angle (R1, R2 > r_w about C for the circle:
-// the tangents of Eqn. parameters2 exist; the hand mount turns about O, so with C off O it comes within R2 - |OC| of
-// C; for an ellipse, outside it and beyond its larger semi-axis respectively).
+// [0.25, 4], and both mounts lie outside the wrist surface (R1, R2 > r_w for the paper's circle about O: the tangents
+// of Eqn. parameters2 exist at every angle). A surface off O or elliptic: the hand mount, turning about O, comes closer
+// to it as the wrist turns, at angles that may lie beyond the joint's range (an ulnar mount 3.5 cm from O above an
+// ellipse 2 cm across and 3.7 cm along the forearm meets it at 62 deg of radial deviation); so here it is checked at
+// the joint's zero, with C nearer O than the mount, and over the joint's range by whoever knows it
+// (hand_mount_clearance, sim::load_device). At an angle where the mount is inside the surface the path is continued
+// through the mount's foot on it (the point at its polar angle about C, in the coordinates that make the surface the
+// unit circle): the arc to the foot, the distance to the mount, and the moment arm along the surface there, the limits
+// of the wrapped path as the mount reaches the surface, so torque and length stay continuous.
 void validate(const Placement& placement, double wrist_radius, WrapSurface surface = {});
+
+// The least distance of the hand mount from the surface's centre over joint angles |theta| <= max_angle [rad], in
+// the coordinates that make the surface the unit circle (above 1: outside it at every such angle).
+double hand_mount_clearance(const Placement& placement, double wrist_radius, WrapSurface surface, double max_angle);
 
 // The muscle's path at a joint angle [rad], |joint_angle| <= pi.
 MusclePath muscle_path(const Placement& placement, double wrist_radius, double joint_angle, WrapSurface surface = {});

@@ -1,5 +1,6 @@
 #include "sim/device.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -13,6 +14,7 @@
 #include "physics/exosuit_layout.h"
 #include "physics/paper_parameters.h"
 #include "physics/plausible_ranges.h"
+#include "physics/torque_geometry.h"
 
 namespace softwrist::sim {
 namespace {
@@ -289,8 +291,35 @@ DeviceDescription parse_device(const std::string& json_text, const std::string& 
   if (top.has("regulator")) read_regulator(top.child("regulator"), device.regulator);
   if (top.has("wrist")) read_wrist(top.child("wrist"), device.wrist);
   if (top.has("hand")) read_hand(top.child("hand"), device.hand);
+  try {
+    check_hand_mount_clearance(device);  // against the wrist's range, read last
+  } catch (const physics::InvalidParameter& e) {
+    top.fail("muscles", e.what());
+  }
   top.finish();
   return device;
+}
+
+double muscle_reach(const DeviceDescription& device, int index) {
+  const PassiveWrist& w = device.wrist;
+  const bool fe = index == kFlexor || index == physics::kExtensor;
+  return (fe ? std::max(w.flexion_limit, w.extension_limit) : std::max(w.ulnar_limit, w.radial_limit)) +
+         units::deg_to_rad(15.0);
+}
+
+void check_hand_mount_clearance(const DeviceDescription& device) {
+  for (std::size_t i = 0; i < device.muscles.size(); ++i) {
+    const MuscleMount& m = device.muscles[i];
+    if (m.wrap_surface.is_papers()) continue;  // R2 > r_w at every angle (physics::validate)
+    const double reach = muscle_reach(device, static_cast<int>(i));
+    const double clearance = physics::hand_mount_clearance(m.placement, m.wrist_radius, m.wrap_surface, reach);
+    if (!(clearance > 1.0)) {
+      throw physics::InvalidParameter(fmt::format(
+          "{}: the hand mount comes inside the wrist surface within +-{:.1f} deg of the joint's zero (its least "
+          "scaled distance from the surface's centre {:.4g}, must exceed 1)",
+          kMuscleNames[i], units::rad_to_deg(reach), clearance));
+    }
+  }
 }
 
 DeviceDescription rom_device() {

@@ -113,6 +113,16 @@ DeviceDescription paper_device();
 // torque_measurement_parameters, the only K the paper measured) with self-consistent stretching.
 DeviceDescription rom_device();
 
+// The largest joint angle [rad] muscle `index` turns through: its axis's larger biological limit (flexion/extension
+// for the flexor and extensor, ulnar/radial deviation for the others; PassiveWrist) and a margin of 15 deg, as far as
+// the relaxed wrist's stiffening lets the hand go past its limit (a few degrees) and beyond it the torque rig's last
+// held angle (90 deg of flexion, against the 80.9 deg limit of Table RoM).
+double muscle_reach(const DeviceDescription& device, int index);
+
+// Throws physics::InvalidParameter, naming the muscle, where a muscle's hand mount comes inside its wrist surface (an
+// ellipse, or a circle off the joint's centre) within its reach (physics::hand_mount_clearance).
+void check_hand_mount_clearance(const DeviceDescription& device);
+
 // Reads a placement file. Errors throw std::runtime_error("<file>: <field>: <problem>").
 DeviceDescription load_device(const std::filesystem::path& path);
 DeviceDescription parse_device(const std::string& json_text, const std::string& source_name);

@@ -207,17 +207,83 @@ TEST(MusclePathOffCentre, MomentArmAboutTheJointIsMinusTheLengthsDerivative) {
   }
 }
 
-// A circle moved so far that the turning hand mount would come within r_w of its centre is refused, naming why.
-TEST(MusclePathOffCentre, RejectsACentreTheHandMountWouldEnter) {
+// A centre as far from O as the hand mount, or a circle that holds the hand mount at the joint's zero, is refused
+// naming why; one the mount enters only as the wrist turns is not (hand_mount_clearance says at which angles).
+TEST(MusclePathOffCentre, RejectsACentreTheHandMountIsInsideOrCircles) {
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
   const double r2 = std::hypot(rig.d2, rig.w2);
-  try {
-    muscle_path(rig, 0.0399, 0.0, WrapSurface{.x = r2 - 0.0399, .y = 0.0});
-    FAIL();
-  } catch (const InvalidParameter& e) {
-    EXPECT_NE(std::string(e.what()).find("R2 - |OC|"), std::string::npos) << e.what();
-  }
+  const auto message = [&](WrapSurface centre) {
+    try {
+      muscle_path(rig, 0.0399, 0.0, centre);
+    } catch (const InvalidParameter& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(WrapSurface{.x = r2 + 0.001, .y = 0.0}).find("|OC|"), std::string::npos);
+  EXPECT_NE(message(WrapSurface{.x = rig.d2, .y = 0.0}).find("|P2 - C| / r_w"), std::string::npos);  // 3.4 cm off
+  EXPECT_EQ(message(WrapSurface{.x = r2 - 0.0399, .y = 0.0}), "accepted");  // 4.7 cm from the mount at zero
   EXPECT_THROW(muscle_path(rig, 0.0399, 0.0, WrapSurface{.x = std::nan(""), .y = 0.0}), InvalidParameter);
+}
+
+// The hand mount's least scaled distance from the surface's centre over |theta| <= reach, against a dense scan: the
+// circle about O keeps R2 / r_w; a circle moved towards the hand is closest where the mount points at its centre.
+TEST(HandMountClearance, IsTheLeastScaledDistanceOverTheReach) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  const double r2 = std::hypot(rig.d2, rig.w2);
+  EXPECT_NEAR(hand_mount_clearance(rig, 0.0399, WrapSurface{}, std::numbers::pi), r2 / 0.0399, 1e-12);
+  for (const WrapSurface s : {WrapSurface{.x = 0.05, .y = 0.0}, WrapSurface{.x = -0.008, .y = 0.008, .aspect = 1.6},
+                              WrapSurface{.aspect = 0.6}}) {
+    for (const double reach_deg : {10.0, 40.0, 95.0, 180.0}) {
+      double scanned = INFINITY;
+      for (int k = -200000; k <= 200000; ++k) {
+        const Point p = hand_mount(rig, deg_to_rad(reach_deg) * k / 200000.0);
+        scanned = std::min(scanned, std::hypot((p.x - s.x) / (s.aspect * 0.0399), (p.y - s.y) / 0.0399));
+      }
+      EXPECT_NEAR(hand_mount_clearance(rig, 0.0399, s, deg_to_rad(reach_deg)), scanned, 1e-9)
+          << s.x << " " << s.aspect << " " << reach_deg;
+    }
+  }
+  // The circle 5 cm towards the hand: R2 - |OC| = 3.96 cm from its centre where the mount points at it (-22 deg).
+  EXPECT_NEAR(hand_mount_clearance(rig, 0.0399, WrapSurface{.x = 0.05}, std::numbers::pi), (r2 - 0.05) / 0.0399, 1e-9);
+  EXPECT_GT(hand_mount_clearance(rig, 0.0399, WrapSurface{.x = 0.05}, deg_to_rad(10.0)), 1.0);
+}
+
+// Where the turning hand mount enters the surface (beyond the joint's reach), the path goes on through the mount's
+// foot on it: length and moment arm continuous across the angle where it enters, finite at every angle to pi, on an
+// ellipse longer along the forearm than across it (an ulnar muscle's mount 3.5 cm from O, 74 deg off the hand's axis,
+// over a wrist 3.7 cm long) and on a circle moved off the joint.
+TEST(MusclePathBeyondTheReach, ContinuesThroughTheMountsFoot) {
+  const Placement ulnar{.d1 = 0.211, .w1 = 0.071, .d2 = 0.010, .w2 = 0.034};
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  for (const auto& [placement, r_w, surface] : {std::tuple{ulnar, 0.0242, WrapSurface{.aspect = 1.53}},
+                                                std::tuple{rig, 0.0399, WrapSurface{.x = 0.05, .y = 0.0}}}) {
+    const auto inside = [&](double theta) {
+      const Point p = hand_mount(placement, theta);
+      return std::hypot((p.x - surface.x) / (surface.aspect * r_w), (p.y - surface.y) / r_w) < 1.0;
+    };
+    ASSERT_FALSE(inside(0.0));
+    // The first angle below zero where the mount is inside, then the crossing by bisection.
+    double lo = 0.0, hi = -std::numbers::pi;
+    for (int deg = 0; deg >= -180; --deg) {
+      if (inside(deg_to_rad(deg))) {
+        hi = deg_to_rad(deg);
+        break;
+      }
+      lo = deg_to_rad(deg);
+    }
+    ASSERT_TRUE(inside(hi));
+    for (int i = 0; i < 60; ++i) (inside(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    const MusclePath before = muscle_path(placement, r_w, lo + 1e-9, surface);
+    const MusclePath after = muscle_path(placement, r_w, hi - 1e-9, surface);
+    ASSERT_EQ(before.regime, Regime::kWrapping);
+    EXPECT_NEAR(after.length, before.length, 1e-7);
+    EXPECT_NEAR(after.moment_arm, before.moment_arm, 1e-5 * std::abs(before.moment_arm));
+    for (int deg = -180; deg <= 180; ++deg) {
+      const MusclePath path = muscle_path(placement, r_w, deg_to_rad(deg), surface);
+      EXPECT_TRUE(std::isfinite(path.length) && std::isfinite(path.moment_arm)) << deg;
+    }
+  }
 }
 
 // A wrist surface that is not a circle (WrapSurface::aspect, an ellipse with semi-axes aspect r_w along the forearm

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "io/text_file.h"
+#include "physics/errors.h"
+#include "physics/units.h"
 #include "sim/model_builder.h"
 
 namespace softwrist::sim {
@@ -75,6 +77,14 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_TRUE(parse_device(elliptic_text, "x.json").muscles[kFlexor].wrap_surface.circular());
   EXPECT_EQ(device_to_json(parse_device(elliptic_text, "x.json")), elliptic_text);
   EXPECT_EQ(text.find("wrap_aspect"), std::string::npos);
+  // An ellipse longer along the forearm (3.7 cm) than the ulnar hand mount's distance from O (3.54 cm, Table RoM)
+  // loads: the mount would meet it at 62.5 deg of radial deviation, beyond the deviation's reach (54.1 deg,
+  // muscle_reach); with the deviation's limits at 60 deg (reach 75 deg), it is refused.
+  DeviceDescription long_wrist = d;
+  long_wrist.muscles[kUlnar].wrap_surface.aspect = 0.037 / long_wrist.muscles[kUlnar].wrist_radius;
+  EXPECT_NO_THROW(parse_device(device_to_json(long_wrist), "x.json"));
+  long_wrist.wrist.radial_limit = long_wrist.wrist.ulnar_limit = units::deg_to_rad(60.0);
+  EXPECT_THROW(check_hand_mount_clearance(long_wrist), physics::InvalidParameter);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
@@ -102,7 +112,10 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["muscles"]["flexor"]["L0_cm"] = -3; }), "muscles.flexor: rest_length"},
       {with([](auto& j) { j["muscles"]["ulnar"]["rw_cm"] = 4; }), "muscles.ulnar: hand mount distance R2"},
       {with([](auto& j) { j["muscles"]["flexor"]["wrap_centre_x_cm"] = 8; }),
-       "muscles.flexor: hand mount distance R2 - |OC|"},
+       "muscles.flexor: hand mount distance |P2 - C| / r_w"},
+      // Outside the circle at zero, inside it at -22 deg, within the flexion's reach (sim::muscle_reach).
+      {with([](auto& j) { j["muscles"]["flexor"]["wrap_centre_x_cm"] = 5; }),
+       "muscles: flexor: the hand mount comes inside the wrist surface within +-95.9 deg"},
       {with([](auto& j) { j["muscles"]["flexor"]["wrap_aspect"] = 9; }), "muscles.flexor: wrap surface aspect"},
       {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
       {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
