@@ -324,6 +324,11 @@ EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radi
   const EllipticWrap w = elliptic_wrap(placement, a, b, surface, p2x, p2y);
   // Unit directions of the two segments, P1 -> Q1 and Q2 -> P2, and the turn between them (the path bends clockwise
   // over the muscle's side: the cross product is negative).
+  // Beyond the joint's reach, the hand mount inside the ellipse (validate), or turned so far (past 120 deg) that it
+  // passes behind the wrist and the segments' lines meet on the wrong side: no circle stands in for the path; the
+  // inscribed one, as for a straight path, keeps MuJoCo's wrap defined.
+  const EquivalentCircle inscribed{surface.x, surface.y, std::min(a, b)};
+  if (w.p2_inside) return inscribed;
   double e1x = w.q1x - p1x, e1y = w.q1y - p1y, e2x = p2x - w.q2x, e2y = p2y - w.q2y;
   const double n1 = std::hypot(e1x, e1y), n2 = std::hypot(e2x, e2y);
   e1x /= n1, e1y /= n1, e2x /= n2, e2y /= n2;
@@ -342,6 +347,7 @@ EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radi
   const double xx = p1x + u * e1x, xy = p1y + u * e1y;
   const double through_x = std::hypot(xx - p1x, xy - p1y) + std::hypot(p2x - xx, p2y - xy);
   const double radius = (through_x - path.length) / (2.0 * std::tan(0.5 * turn) - turn);
+  if (!(radius > 0.0 && radius < plausible::kMaxLength)) return inscribed;
   const double to_centre = radius / std::cos(0.5 * turn);
   return {xx + bx / nb * to_centre, xy + by / nb * to_centre, radius};
 }

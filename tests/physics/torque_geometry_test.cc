@@ -282,6 +282,12 @@ TEST(MusclePathBeyondTheReach, ContinuesThroughTheMountsFoot) {
     for (int deg = -180; deg <= 180; ++deg) {
       const MusclePath path = muscle_path(placement, r_w, deg_to_rad(deg), surface);
       EXPECT_TRUE(std::isfinite(path.length) && std::isfinite(path.moment_arm)) << deg;
+      // MuJoCo's stand-in circle (spatial routing) stays a circle there too (the inscribed one where no circle stands
+      // in: past 120 deg the ulnar mount passes behind the wrist).
+      const EquivalentCircle c = equivalent_circle(placement, r_w, surface, deg_to_rad(deg), path);
+      EXPECT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && c.radius > 0.0 && c.radius < 1.0)
+          << deg << " deg: " << c.x << ", " << c.y << ", r " << c.radius
+          << (path.regime == Regime::kWrapping ? " wrapping" : " straight");
     }
   }
 }
