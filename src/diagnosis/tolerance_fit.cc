@@ -239,6 +239,10 @@ struct Setup {
     for (std::size_t e = 0; e < ids.size(); ++e) {
       if (std::find(without.begin(), without.end(), ids[e]) == without.end()) apply_effect(ids[e], values[e], v);
     }
+    // The anchors and limits moved: each hand mount clear of its wrist surface over its reach, as a placement file's
+    // (wrap_geometry checks it too, but only where it has a box of its own).
+    sim::check_hand_mount_clearance(v.device);
+    for (const auto& [placement, rig] : v.rigs) sim::check_hand_mount_clearance(rig);
     return v;
   }
 };

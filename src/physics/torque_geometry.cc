@@ -80,6 +80,7 @@ double hand_mount_clearance(const Placement& placement, double wrist_radius, Wra
   };
   // Sampled at most every degree, then the least sample's neighbourhood refined by golden-section search (the
   // distance is smooth in theta and has at most two minima on the circle the mount turns on).
+  require_finite("max_angle [rad]", max_angle);
   const double reach = std::min(std::abs(max_angle), std::numbers::pi);
   const int samples = std::max(1, static_cast<int>(std::ceil(2.0 * reach / (std::numbers::pi / 180.0))));
   double best = -reach, least = scaled_distance(-reach);
@@ -135,7 +136,10 @@ struct EllipticWrap {
   bool p2_inside = false;  // the hand mount within the ellipse (beyond the joint's reach): Q2 its foot (header)
 };
 
-EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, double p2x, double p2y) {
+// At joint angle theta, P2 = Rot(theta) (d2, w2).
+EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, double theta) {
+  const double p2x = p.d2 * std::cos(theta) - p.w2 * std::sin(theta);
+  const double p2y = p.d2 * std::sin(theta) + p.w2 * std::cos(theta);
   const double u1x = (-p.d1 - c.x) / a, u1y = (p.w1 - c.y) / b;
   const double u2x = (p2x - c.x) / a, u2y = (p2y - c.y) / b;
   // P1 lies behind the centre (x < 0): its polar angle taken in (0, 2 pi), continuous across the forearm's axis.
@@ -145,7 +149,13 @@ EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSur
   w.t1 = polar1 - std::acos(1.0 / std::sqrt(u1x * u1x + u1y * u1y));
   const double n2 = std::sqrt(u2x * u2x + u2y * u2y);
   w.p2_inside = n2 <= 1.0;
-  w.t2 = std::atan2(u2y, u2x) + (w.p2_inside ? 0.0 : std::acos(1.0 / n2));
+  // P2's polar angle in the scaled coordinates about C, continuous in theta: within pi of O -> P2's own, theta +
+  // atan2(w2, d2) (|OC| < R2 keeps C -> P2 within a right angle of O -> P2, and the scaling keeps each quadrant), not
+  // atan2's cut, where a hand turned past about 106 deg jumped to a wrap of 246 deg.
+  const double reference = theta + std::atan2(p.w2, p.d2);
+  double polar2 = std::atan2(u2y, u2x);
+  polar2 += 2.0 * std::numbers::pi * std::round((reference - polar2) / (2.0 * std::numbers::pi));
+  w.t2 = polar2 + (w.p2_inside ? 0.0 : std::acos(1.0 / n2));
   w.q1x = c.x + a * std::cos(w.t1);
   w.q1y = c.y + b * std::sin(w.t1);
   w.q2x = c.x + a * std::cos(w.t2);
@@ -274,7 +284,7 @@ MusclePath PlacementGeometry::elliptic_at(const JointAngle& angle) const {
   const double a = surface_.aspect * wrist_radius_, b = wrist_radius_;
   const double d2 = placement_.d2, w2 = placement_.w2;
   const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
-  const EllipticWrap w = elliptic_wrap(placement_, a, b, surface_, p2x, p2y);
+  const EllipticWrap w = elliptic_wrap(placement_, a, b, surface_, angle.radians);
   MusclePath path;
   path.tangent_angle = std::atan2(w.q1x - surface_.x, w.q1y - surface_.y);  // from y to C->Q1, towards x
   path.wrap_angle = w.t1 - w.t2;
@@ -303,9 +313,7 @@ MusclePath muscle_path(const Placement& placement, double wrist_radius, double j
 TangentPoints tangent_points(const Placement& placement, double wrist_radius, WrapSurface surface, double joint_angle,
                              const MusclePath& path) {
   if (!surface.circular()) {
-    const double c = std::cos(joint_angle), s = std::sin(joint_angle);
-    const double p2x = placement.d2 * c - placement.w2 * s, p2y = placement.d2 * s + placement.w2 * c;
-    const EllipticWrap w = elliptic_wrap(placement, surface.aspect * wrist_radius, wrist_radius, surface, p2x, p2y);
+    const EllipticWrap w = elliptic_wrap(placement, surface.aspect * wrist_radius, wrist_radius, surface, joint_angle);
     return {w.q1x, w.q1y, w.q2x, w.q2y};
   }
   const double psi = path.tangent_angle, phi = path.wrap_angle;
@@ -321,12 +329,12 @@ EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radi
   const double c = std::cos(joint_angle), s = std::sin(joint_angle);
   const double p1x = -placement.d1, p1y = placement.w1;
   const double p2x = placement.d2 * c - placement.w2 * s, p2y = placement.d2 * s + placement.w2 * c;
-  const EllipticWrap w = elliptic_wrap(placement, a, b, surface, p2x, p2y);
+  const EllipticWrap w = elliptic_wrap(placement, a, b, surface, joint_angle);
   // Unit directions of the two segments, P1 -> Q1 and Q2 -> P2, and the turn between them (the path bends clockwise
   // over the muscle's side: the cross product is negative).
-  // Beyond the joint's reach, the hand mount inside the ellipse (validate), or turned so far (past 120 deg) that it
-  // passes behind the wrist and the segments' lines meet on the wrong side: no circle stands in for the path; the
-  // inscribed one, as for a straight path, keeps MuJoCo's wrap defined.
+  // Beyond the joint's reach, the hand mount inside the ellipse (validate): no circle stands in for the continued path;
+  // the inscribed one, as for a straight path, keeps MuJoCo's wrap defined (so does a radius the formula cannot give,
+  // below).
   const EquivalentCircle inscribed{surface.x, surface.y, std::min(a, b)};
   if (w.p2_inside) return inscribed;
   double e1x = w.q1x - p1x, e1y = w.q1y - p1y, e2x = p2x - w.q2x, e2y = p2y - w.q2y;

@@ -75,12 +75,14 @@ struct MusclePath {
 // [0.25, 4], and both mounts lie outside the wrist surface (R1, R2 > r_w for the paper's circle about O: the tangents
 // of Eqn. parameters2 exist at every angle). A surface off O or elliptic: the hand mount, turning about O, comes closer
 // to it as the wrist turns, at angles that may lie beyond the joint's range (an ulnar mount 3.5 cm from O above an
-// ellipse 2 cm across and 3.7 cm along the forearm meets it at 62 deg of radial deviation); so here it is checked at
-// the joint's zero, with C nearer O than the mount, and over the joint's range by whoever knows it
+// ellipse of semi-axes 2 cm across and 3.7 cm along the forearm meets it at 62 deg of radial deviation); so here it is
+// checked at the joint's zero, with C nearer O than the mount, and over the joint's range by whoever knows it
 // (hand_mount_clearance, sim::load_device). At an angle where the mount is inside the surface the path is continued
 // through the mount's foot on it (the point at its polar angle about C, in the coordinates that make the surface the
 // unit circle): the arc to the foot, the distance to the mount, and the moment arm along the surface there, the limits
-// of the wrapped path as the mount reaches the surface, so torque and length stay continuous.
+// of the wrapped path as the mount reaches the surface, so torque and length are continuous where it enters. Only
+// continuous: inside, the moment arm is not -dL/dtheta, and where the wrap ends with the mount still inside, the
+// length steps by the difference between the foot's detour and the straight segment; neither within the reach.
 void validate(const Placement& placement, double wrist_radius, WrapSurface surface = {});
 
 // The least distance of the hand mount from the surface's centre over joint angles |theta| <= max_angle [rad], in

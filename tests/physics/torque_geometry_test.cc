@@ -252,7 +252,7 @@ TEST(HandMountClearance, IsTheLeastScaledDistanceOverTheReach) {
 // Where the turning hand mount enters the surface (beyond the joint's reach), the path goes on through the mount's
 // foot on it: length and moment arm continuous across the angle where it enters, finite at every angle to pi, on an
 // ellipse longer along the forearm than across it (an ulnar muscle's mount 3.5 cm from O, 74 deg off the hand's axis,
-// over a wrist 3.7 cm long) and on a circle moved off the joint.
+// over an ellipse of semi-axis 3.7 cm along the forearm) and on a circle moved off the joint.
 TEST(MusclePathBeyondTheReach, ContinuesThroughTheMountsFoot) {
   const Placement ulnar{.d1 = 0.211, .w1 = 0.071, .d2 = 0.010, .w2 = 0.034};
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
@@ -279,17 +279,39 @@ TEST(MusclePathBeyondTheReach, ContinuesThroughTheMountsFoot) {
     ASSERT_EQ(before.regime, Regime::kWrapping);
     EXPECT_NEAR(after.length, before.length, 1e-7);
     EXPECT_NEAR(after.moment_arm, before.moment_arm, 1e-5 * std::abs(before.moment_arm));
-    for (int deg = -180; deg <= 180; ++deg) {
-      const MusclePath path = muscle_path(placement, r_w, deg_to_rad(deg), surface);
-      EXPECT_TRUE(std::isfinite(path.length) && std::isfinite(path.moment_arm)) << deg;
-      // MuJoCo's stand-in circle (spatial routing) stays a circle there too (the inscribed one where no circle stands
-      // in: past 120 deg the ulnar mount passes behind the wrist).
-      const EquivalentCircle c = equivalent_circle(placement, r_w, surface, deg_to_rad(deg), path);
-      EXPECT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && c.radius > 0.0 && c.radius < 1.0)
-          << deg << " deg: " << c.x << ", " << c.y << ", r " << c.radius
-          << (path.regime == Regime::kWrapping ? " wrapping" : " straight");
+    // Over every angle, in quarter degrees: finite, the length without a step (at most a millimetre per step here;
+    // atan2's cut once made it jump 17 cm at 106.5 deg), and MuJoCo's stand-in circle (spatial routing) a circle.
+    MusclePath previous = muscle_path(placement, r_w, -std::numbers::pi, surface);
+    for (int quarter = -719; quarter <= 720; ++quarter) {
+      const double theta = deg_to_rad(0.25 * quarter);
+      const MusclePath path = muscle_path(placement, r_w, theta, surface);
+      EXPECT_TRUE(std::isfinite(path.length) && std::isfinite(path.moment_arm)) << 0.25 * quarter;
+      EXPECT_LT(std::abs(path.length - previous.length), 0.001) << 0.25 * quarter << " deg";
+      previous = path;
+      const EquivalentCircle c = equivalent_circle(placement, r_w, surface, theta, path);
+      EXPECT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && c.radius > 0.0 && c.radius < 1.0) << 0.25 * quarter;
     }
   }
+}
+
+// Deep inside the circle moved 5 cm towards the hand (the mount pointing at its centre, at -atan2(w2, d2)), the
+// continued path by hand: the tangent from P1, the arc from Q1 to the foot, the foot to the mount; the moment arm
+// along the circle at the foot.
+TEST(MusclePathBeyondTheReach, InsideTheCircleIsTheArcToTheFootAndOn) {
+  const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
+  constexpr double r_w = 0.0399;
+  const WrapSurface surface{.x = 0.05, .y = 0.0};
+  const double theta = -std::atan2(rig.w2, rig.d2);
+  const Point p1 = forearm_mount(rig), p2 = hand_mount(rig, theta);
+  const double r1 = std::hypot(p1.x - surface.x, p1.y - surface.y), r2 = std::hypot(p2.x - surface.x, p2.y);
+  ASSERT_LT(r2, r_w);
+  // Q1 on the muscle's side: P1's polar angle about C less the tangent's half-angle; the foot at P2's polar angle.
+  const double q1 = std::atan2(p1.y - surface.y, p1.x - surface.x) - std::acos(r_w / r1);
+  const double foot = std::atan2(p2.y - surface.y, p2.x - surface.x);
+  const MusclePath path = muscle_path(rig, r_w, theta, surface);
+  ASSERT_EQ(path.regime, Regime::kWrapping);
+  EXPECT_NEAR(path.length, std::sqrt(r1 * r1 - r_w * r_w) + r_w * (q1 - foot) + (r_w - r2), 1e-12);
+  EXPECT_NEAR(path.moment_arm, p2.x * std::cos(foot) + p2.y * std::sin(foot), 1e-12);
 }
 
 // A wrist surface that is not a circle (WrapSurface::aspect, an ellipse with semi-axes aspect r_w along the forearm

@@ -77,9 +77,9 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_TRUE(parse_device(elliptic_text, "x.json").muscles[kFlexor].wrap_surface.circular());
   EXPECT_EQ(device_to_json(parse_device(elliptic_text, "x.json")), elliptic_text);
   EXPECT_EQ(text.find("wrap_aspect"), std::string::npos);
-  // An ellipse longer along the forearm (3.7 cm) than the ulnar hand mount's distance from O (3.54 cm, Table RoM)
-  // loads: the mount would meet it at 62.5 deg of radial deviation, beyond the deviation's reach (54.1 deg,
-  // muscle_reach); with the deviation's limits at 60 deg (reach 75 deg), it is refused.
+  // An ellipse whose semi-axis along the forearm (3.7 cm) is longer than the ulnar hand mount's distance from O (3.54
+  // cm, Table RoM) loads: the mount would meet it at 62.5 deg of radial deviation, beyond the deviation's reach (54.1
+  // deg, muscle_reach); with the deviation's limits at 60 deg (reach 75 deg), it is refused.
   DeviceDescription long_wrist = d;
   long_wrist.muscles[kUlnar].wrap_surface.aspect = 0.037 / long_wrist.muscles[kUlnar].wrist_radius;
   EXPECT_NO_THROW(parse_device(device_to_json(long_wrist), "x.json"));
