@@ -131,28 +131,30 @@ double wrap_angle_at_zero(const Placement& placement, double r_w, double psi) {
 // tangent points Q1 from P1 and Q2 from P2 on the muscle's side, at parametric angles t1 and t2 (the point
 // C + (a cos t, b sin t)); the muscle wraps when t1 > t2.
 struct EllipticWrap {
+  double p2x = 0.0, p2y = 0.0;  // the hand mount at the joint angle, O -> P2
   double t1 = 0.0, t2 = 0.0;
   double q1x = 0.0, q1y = 0.0, q2x = 0.0, q2y = 0.0;
   bool p2_inside = false;  // the hand mount within the ellipse (beyond the joint's reach): Q2 its foot (header)
 };
 
 // At joint angle theta, P2 = Rot(theta) (d2, w2).
-EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, double theta) {
-  const double p2x = p.d2 * std::cos(theta) - p.w2 * std::sin(theta);
-  const double p2y = p.d2 * std::sin(theta) + p.w2 * std::cos(theta);
+EllipticWrap elliptic_wrap(const Placement& p, double a, double b, const WrapSurface& c, const JointAngle& theta) {
+  EllipticWrap w;
+  w.p2x = p.d2 * theta.cos - p.w2 * theta.sin;
+  w.p2y = p.d2 * theta.sin + p.w2 * theta.cos;
+  const double p2x = w.p2x, p2y = w.p2y;
   const double u1x = (-p.d1 - c.x) / a, u1y = (p.w1 - c.y) / b;
   const double u2x = (p2x - c.x) / a, u2y = (p2y - c.y) / b;
   // P1 lies behind the centre (x < 0): its polar angle taken in (0, 2 pi), continuous across the forearm's axis.
   double polar1 = std::atan2(u1y, u1x);
   if (polar1 < 0.0) polar1 += 2.0 * std::numbers::pi;
-  EllipticWrap w;
   w.t1 = polar1 - std::acos(1.0 / std::sqrt(u1x * u1x + u1y * u1y));
   const double n2 = std::sqrt(u2x * u2x + u2y * u2y);
   w.p2_inside = n2 <= 1.0;
   // P2's polar angle in the scaled coordinates about C, continuous in theta: within pi of O -> P2's own, theta +
   // atan2(w2, d2) (|OC| < R2 keeps C -> P2 within a right angle of O -> P2, and the scaling keeps each quadrant), not
   // atan2's cut, where a hand turned past about 106 deg jumped to a wrap of 246 deg.
-  const double reference = theta + std::atan2(p.w2, p.d2);
+  const double reference = theta.radians + std::atan2(p.w2, p.d2);
   double polar2 = std::atan2(u2y, u2x);
   polar2 += 2.0 * std::numbers::pi * std::round((reference - polar2) / (2.0 * std::numbers::pi));
   w.t2 = polar2 + (w.p2_inside ? 0.0 : std::acos(1.0 / n2));
@@ -282,9 +284,8 @@ MusclePath PlacementGeometry::off_centre_at(const JointAngle& angle) const {
 // force direction at P2, towards Q2.
 MusclePath PlacementGeometry::elliptic_at(const JointAngle& angle) const {
   const double a = surface_.aspect * wrist_radius_, b = wrist_radius_;
-  const double d2 = placement_.d2, w2 = placement_.w2;
-  const double p2x = d2 * angle.cos - w2 * angle.sin, p2y = d2 * angle.sin + w2 * angle.cos;  // O->P2
-  const EllipticWrap w = elliptic_wrap(placement_, a, b, surface_, angle.radians);
+  const EllipticWrap w = elliptic_wrap(placement_, a, b, surface_, angle);
+  const double p2x = w.p2x, p2y = w.p2y;
   MusclePath path;
   path.tangent_angle = std::atan2(w.q1x - surface_.x, w.q1y - surface_.y);  // from y to C->Q1, towards x
   path.wrap_angle = w.t1 - w.t2;
@@ -313,7 +314,8 @@ MusclePath muscle_path(const Placement& placement, double wrist_radius, double j
 TangentPoints tangent_points(const Placement& placement, double wrist_radius, WrapSurface surface, double joint_angle,
                              const MusclePath& path) {
   if (!surface.circular()) {
-    const EllipticWrap w = elliptic_wrap(placement, surface.aspect * wrist_radius, wrist_radius, surface, joint_angle);
+    const EllipticWrap w =
+        elliptic_wrap(placement, surface.aspect * wrist_radius, wrist_radius, surface, JointAngle(joint_angle));
     return {w.q1x, w.q1y, w.q2x, w.q2y};
   }
   const double psi = path.tangent_angle, phi = path.wrap_angle;
@@ -326,17 +328,16 @@ EquivalentCircle equivalent_circle(const Placement& placement, double wrist_radi
   const double a = surface.aspect * wrist_radius, b = wrist_radius;
   if (path.regime != Regime::kWrapping) return {surface.x, surface.y, std::min(a, b)};
   if (surface.circular()) return {surface.x, surface.y, wrist_radius};
-  const double c = std::cos(joint_angle), s = std::sin(joint_angle);
   const double p1x = -placement.d1, p1y = placement.w1;
-  const double p2x = placement.d2 * c - placement.w2 * s, p2y = placement.d2 * s + placement.w2 * c;
-  const EllipticWrap w = elliptic_wrap(placement, a, b, surface, joint_angle);
-  // Unit directions of the two segments, P1 -> Q1 and Q2 -> P2, and the turn between them (the path bends clockwise
-  // over the muscle's side: the cross product is negative).
+  const EllipticWrap w = elliptic_wrap(placement, a, b, surface, JointAngle(joint_angle));
+  const double p2x = w.p2x, p2y = w.p2y;
   // Beyond the joint's reach, the hand mount inside the ellipse (validate): no circle stands in for the continued path;
   // the inscribed one, as for a straight path, keeps MuJoCo's wrap defined (so does a radius the formula cannot give,
   // below).
   const EquivalentCircle inscribed{surface.x, surface.y, std::min(a, b)};
   if (w.p2_inside) return inscribed;
+  // Unit directions of the two segments, P1 -> Q1 and Q2 -> P2, and the turn between them (the path bends clockwise
+  // over the muscle's side: the cross product is negative).
   double e1x = w.q1x - p1x, e1y = w.q1y - p1y, e2x = p2x - w.q2x, e2y = p2y - w.q2y;
   const double n1 = std::hypot(e1x, e1y), n2 = std::hypot(e2x, e2y);
   e1x /= n1, e1y /= n1, e2x /= n2, e2y /= n2;
