@@ -354,7 +354,7 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   if (!independent && o.generator != "catalogue")
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
   for (const char* only : {"--shard", "--out", "--merge", "--calibrate", "--redecide", "--forms", "--no-pairs",
-                           "--min-level", "--torque-rig", "--prototype"}) {
+                           "--min-level", "--torque-rig", "--prototype", "--rank-beyond-tolerances"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
