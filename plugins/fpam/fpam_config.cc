@@ -185,7 +185,10 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
     if (!read.Has(kForearmStiffness)) read.Fail(kForearmStiffness, "must be given when the mounts stretch");
     if (!read.Has(kHandStiffness)) read.Fail(kHandStiffness, "must be given when the mounts stretch");
   }
-  law.mount_stiffness = {read.Number(kForearmStiffness, 0.0), read.Number(kHandStiffness, 0.0)};
+  law.mount_stiffness = {.forearm = read.Number(kForearmStiffness, 0.0),
+                         .hand = read.Number(kHandStiffness, 0.0),
+                         .exponent = read.Number(kMountExponent, 2.0),
+                         .preload = read.Number(kMountPreload, 0.0)};
   if (read.ok()) {
     try {
       physics::validate(law);  // L0's range and a non-zero stiffness: the physics core's own rules
@@ -252,6 +255,10 @@ std::string FpamConfig::ToText() const {
   if (law.stretch_mode != physics::StretchMode::kNone) {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kForearmStiffness, law.mount_stiffness.forearm, kHandStiffness,
                         law.mount_stiffness.hand);
+    if (!law.mount_stiffness.is_papers_law()) {
+      text += fmt::format(" {}={:.10g} {}={:.10g}", kMountExponent, law.mount_stiffness.exponent, kMountPreload,
+                          law.mount_stiffness.preload);
+    }
   }
   text +=
       fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, regulator.time_constant);

@@ -48,7 +48,8 @@ std::optional<StretchedForce> closed_form_stretch(const MuscleLaw& law, const Fp
 
 StretchConstants stretch_constants(const MuscleLaw& law) {
   const double compliance = mount_compliance(law.mount_stiffness);
-  return {compliance, std::isfinite(compliance) && compliance > 0.0 ? 1.0 / compliance : 0.0, 1.0 / law.rest_length};
+  const bool closed_form = std::isfinite(compliance) && compliance > 0.0 && law.mount_stiffness.is_papers_law();
+  return {compliance, closed_form ? 1.0 / compliance : 0.0, 1.0 / law.rest_length};
 }
 
 StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_law, double path_length) {
@@ -62,8 +63,7 @@ StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_l
   const auto force_at_length = [&](double length) {
     return force_law((law.rest_length - length) * constants.inverse_rest_length);
   };
-  const double compliance = constants.compliance;
-  if (law.stretch_mode == StretchMode::kSelfConsistent && std::isfinite(compliance) && compliance > 0.0 &&
+  if (law.stretch_mode == StretchMode::kSelfConsistent && constants.inverse_compliance > 0.0 &&
       force_at_length(path_length) > 0.0) {
     if (auto solved = closed_form_stretch(law, force_law, path_length, constants)) return *solved;
   }

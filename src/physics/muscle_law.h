@@ -26,7 +26,8 @@ StretchedForce stretched_force(const MuscleLaw& law, const FpamForceLaw& force_l
 // would otherwise divide by at every call.
 struct StretchConstants {
   double compliance = 0.0;
-  double inverse_compliance = 0.0;   // 0 where the compliance is 0 or not finite (no closed form there)
+  double inverse_compliance = 0.0;   // 0 where the compliance is 0 or not finite, or the law not the paper's (no
+                                     // closed form there: MountStiffness::is_papers_law)
   double inverse_rest_length = 0.0;  // 1 / L0
 };
 StretchConstants stretch_constants(const MuscleLaw& law);  // the law must have been validated

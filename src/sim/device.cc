@@ -189,8 +189,10 @@ void read_stretch(Reader stretch, DeviceDescription& device) {
   const auto parsed = physics::parse_stretch_mode(mode);
   if (!parsed) stretch.fail("mode", fmt::format("'{}' is not none, oneshot or selfconsistent", mode));
   device.stretch_mode = *parsed;
-  device.mount_stiffness = {units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
-                            units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0))};
+  device.mount_stiffness = {.forearm = units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
+                            .hand = units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0)),
+                            .exponent = stretch.number("exponent", 2.0),
+                            .preload = stretch.number("preload_n", 0.0)};
   if (device.stretch_mode != physics::StretchMode::kNone) {
     try {
       physics::validate(device.mount_stiffness);
@@ -352,14 +354,18 @@ std::string device_to_json(const DeviceDescription& device) {
     if (!m.wrap_surface.circular()) muscles[kMuscleNames[i]]["wrap_aspect"] = m.wrap_surface.aspect;
   }
   const auto& w = device.wrist;
+  json stretch = {{"mode", physics::to_string(device.stretch_mode)},
+                  {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
+                  {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}};
+  if (!device.mount_stiffness.is_papers_law()) {
+    stretch["exponent"] = device.mount_stiffness.exponent;
+    stretch["preload_n"] = device.mount_stiffness.preload;
+  }
   json root = {
       {"format", kFormat},
       {"muscles", muscles},
       {"fpam", fpam_to_json(device.fpam)},
-      {"stretch",
-       {{"mode", physics::to_string(device.stretch_mode)},
-        {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
-        {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}}},
+      {"stretch", stretch},
       {"regulator", regulator_json(device.regulator)},
       {"wrist",
        {{"stiffness_fe_nm_per_rad", w.stiffness_fe},

@@ -64,6 +64,81 @@ TEST(SolveMountStretch, OneShotLeqSelfConsistentLeqUnstretched) {
   }
 }
 
+// The law's other shapes (mount_stretch.h, beyond the paper): every exponent passes through the paper's stretch at
+// the reference pull F_r; n = 1 is linear in the pull; a preload F_p shifts the law to start at F_p.
+TEST(MountStretch, OtherShapesKeepThePapersStretchAtTheReferencePull) {
+  const double k = kPaperStiffness.forearm, papers = std::sqrt(kMountReferenceForce / 43.36e4);
+  for (const double n : {1.0, 1.5, 3.0, 5.0}) {
+    EXPECT_NEAR(mount_stretch(kMountReferenceForce, k, n), papers, 1e-15) << n;
+    EXPECT_NEAR(mount_stretch(4.0 * kMountReferenceForce, k, n), papers * std::pow(4.0, 1.0 / n), 1e-14) << n;
+  }
+  EXPECT_NEAR(mount_stretch(2.0 * kMountReferenceForce, k, 1.0), 2.0 * papers, 1e-15);
+  EXPECT_EQ(mount_stretch(7.9, k, 1.0, 8.0), 0.0);
+  EXPECT_EQ(mount_stretch(8.0, k, 3.0, 8.0), 0.0);
+  EXPECT_NEAR(mount_stretch(8.0 + kMountReferenceForce, k, 3.0, 8.0), papers, 1e-15);
+  // The paper's shape is the two-argument law for any pull.
+  EXPECT_DOUBLE_EQ(mount_stretch(55.0, k, 2.0, 0.0), mount_stretch(55.0, k));
+  const MountStiffness band{.forearm = k, .hand = kPaperStiffness.hand, .exponent = 1.0, .preload = 8.0};
+  EXPECT_DOUBLE_EQ(total_mount_stretch(50.0, band),
+                   mount_stretch(50.0, band.forearm, 1.0, 8.0) + mount_stretch(50.0, band.hand, 1.0, 8.0));
+  EXPECT_FALSE(band.is_papers_law());
+  EXPECT_TRUE(kPaperStiffness.is_papers_law());
+}
+
+// A linear band with a preload and a linear force law f(L) = k (L - L_slack): the self-consistent pull solves
+// F = k (L - L_slack - b (F - F_p)) by hand, b the band's total compliance [m/N].
+TEST(SolveMountStretch, SelfConsistentLinearBandWithPreloadMatchesHandSolution) {
+  const double k = 2000.0, slack_length = 0.25, length = 0.31, preload = 8.0;
+  const auto force_at_length = [&](double l) { return std::max(0.0, k * (l - slack_length)); };
+  const MountStiffness band{
+      .forearm = kPaperStiffness.forearm, .hand = kPaperStiffness.hand, .exponent = 1.0, .preload = preload};
+  const double b = total_mount_stretch(preload + 1.0, band);  // the stretch of 1 N above the preload
+  const double force = (k * (length - slack_length) + k * b * preload) / (1.0 + k * b);
+  const auto solved = solve_mount_stretch(force_at_length, length, band, StretchMode::kSelfConsistent);
+  EXPECT_NEAR(solved.force, force, 1e-8);
+  EXPECT_NEAR(solved.mount_stretch, b * (force - preload), 1e-12);
+  // Below the preload the mounts do not give: the unstretched pull.
+  const auto slack = solve_mount_stretch(force_at_length, slack_length + 0.003, band, StretchMode::kSelfConsistent);
+  EXPECT_NEAR(slack.force, 6.0, 1e-12);
+  EXPECT_EQ(slack.mount_stretch, 0.0);
+}
+
+// Any shape: the fixed point satisfies both laws, F = f(L - s) and s = dx_1(F) + dx_2(F), and a stiffening strap
+// (n > 2) gives less at high pulls than the paper's, so the muscle pulls more.
+TEST(SolveMountStretch, SelfConsistentForAnyShapeSatisfiesBothLaws) {
+  const auto force_at_length = [](double l) {
+    return std::max(0.0, 3000.0 * (l - 0.2) - 40.0 * (l - 0.2) * (l - 0.2));
+  };
+  for (const double n : {1.0, 1.7, 3.0, 5.0}) {
+    for (const double preload : {0.0, 4.0}) {
+      const MountStiffness shape{
+          .forearm = kPaperStiffness.forearm, .hand = kPaperStiffness.hand, .exponent = n, .preload = preload};
+      for (double length = 0.2; length < 0.4; length += 0.01) {
+        const auto s = solve_mount_stretch(force_at_length, length, shape, StretchMode::kSelfConsistent);
+        EXPECT_NEAR(s.force, force_at_length(length - s.mount_stretch), 1e-9 * (1.0 + s.force)) << n << " " << length;
+        EXPECT_NEAR(s.mount_stretch, total_mount_stretch(s.force, shape), 1e-12) << n << " " << length;
+      }
+    }
+  }
+  const MountStiffness stiffening{.forearm = kPaperStiffness.forearm, .hand = kPaperStiffness.hand, .exponent = 4.0};
+  const double at = 0.3;  // ~300 N unstretched: far above F_r, where n = 4 takes up less than n = 2
+  EXPECT_GT(solve_mount_stretch(force_at_length, at, stiffening, StretchMode::kSelfConsistent).force,
+            solve_mount_stretch(force_at_length, at, kPaperStiffness, StretchMode::kSelfConsistent).force);
+}
+
+TEST(MountStretch, RejectsAnExponentOrPreloadOutOfRange) {
+  EXPECT_THROW(mount_stretch(10.0, 1e5, 0.0), InvalidParameter);
+  EXPECT_THROW(mount_stretch(10.0, 1e5, 9.0), InvalidParameter);
+  EXPECT_THROW(mount_stretch(10.0, 1e5, std::nan("")), InvalidParameter);
+  EXPECT_THROW(mount_stretch(10.0, 1e5, 2.0, -1.0), InvalidParameter);
+  try {
+    validate(MountStiffness{.forearm = 1e5, .hand = 1e6, .exponent = 0.2});
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidParameter& e) {
+    EXPECT_NE(std::string(e.what()).find("mount law exponent n"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MountStretch, RejectsZeroOrNonFiniteStiffnessAndParsesModes) {
   EXPECT_THROW(mount_stretch(10.0, 0.0), InvalidParameter);
   EXPECT_THROW(mount_stretch(10.0, std::nan("")), InvalidParameter);

@@ -81,6 +81,29 @@ TEST(MuscleLaw, SelfConsistentStretchWithACurvedFabricSatisfiesItsEquation) {
   }
 }
 
+// A mount law of another shape than Eqn. fabric_stretching has no closed form: stretched_force (the plugin's path,
+// with its StretchConstants) is the iterative root, and still the paper's closed form where the shape is the paper's.
+TEST(MuscleLaw, OtherMountShapesTakeTheIterativeSolve) {
+  MuscleLaw law = paper::torque_measurement_flexor(StretchMode::kSelfConsistent);
+  law.mount_stiffness.exponent = 3.0;
+  law.mount_stiffness.preload = 5.0;
+  EXPECT_EQ(stretch_constants(law).inverse_compliance, 0.0);
+  for (const double pressure : {0.0, 68e3, 137e3}) {
+    const FpamForceLaw force_law(pressure, law.fpam.at_pressure(pressure), law.fpam.fabric());
+    const auto at_length = [&](double l) { return force_law((law.rest_length - l) / law.rest_length); };
+    for (double length = 0.28; length <= 0.40; length += 0.01) {
+      const StretchedForce s = stretched_force(law, force_law, length);
+      const StretchedForce iterative =
+          solve_mount_stretch(at_length, length, law.mount_stiffness, StretchMode::kSelfConsistent);
+      EXPECT_DOUBLE_EQ(s.force, iterative.force) << pressure << " " << length;
+      EXPECT_NEAR(s.mount_stretch, total_mount_stretch(s.force, law.mount_stiffness), 1e-12);
+    }
+  }
+  law.mount_stiffness.exponent = 2.0;
+  law.mount_stiffness.preload = 0.0;
+  EXPECT_GT(stretch_constants(law).inverse_compliance, 0.0);
+}
+
 TEST(MuscleLaw, ValidationNamesTheRestLengthAndTheStiffness) {
   MuscleLaw law{.fpam = paper::design_fpam(), .rest_length = 12.0};
   EXPECT_THROW(validate(law), InvalidParameter);

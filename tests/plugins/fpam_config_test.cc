@@ -29,6 +29,8 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
   if (a.law.stretch_mode != physics::StretchMode::kNone) {
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.forearm, b.law.mount_stiffness.forearm);
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.hand, b.law.mount_stiffness.hand);
+    EXPECT_DOUBLE_EQ(a.law.mount_stiffness.exponent, b.law.mount_stiffness.exponent);
+    EXPECT_DOUBLE_EQ(a.law.mount_stiffness.preload, b.law.mount_stiffness.preload);
   }
   EXPECT_DOUBLE_EQ(a.max_pressure_kpa, b.max_pressure_kpa);
   EXPECT_DOUBLE_EQ(a.regulator.time_constant, b.regulator.time_constant);
@@ -63,12 +65,15 @@ TEST(FpamConfig, WrittenTextReadsBackToItself) {
       .law = rig, .hysteresis = {.friction_force = 1.2, .pressure_friction = 0.07, .transition_length = 0.004}};
   const FpamConfig curved{.law = {.fpam = physics::FpamParameters::Constant(0.0123, 0.28, {.elastic_curvature = 15.0}),
                                   .rest_length = 0.29}};
+  FpamConfig banded{.law = rig};  // mounts whose take-up is not quadratic (physics/mount_stretch.h)
+  banded.law.mount_stiffness.exponent = 1.25;
+  banded.law.mount_stiffness.preload = 6.5;
   FpamConfig planar{.law = rig};
   planar.planar = FpamConfig::PlanarPath{rig.placement, rig.wrist_radius, rig.wrap_surface};
   FpamConfig planar_ellipse = planar;
   planar_ellipse.planar->surface = {.x = 0.004, .y = -0.002, .aspect = 1.4};
   for (const FpamConfig& written :
-       {table, second_order, constant, hysteretic, frictional, curved, planar, planar_ellipse}) {
+       {table, second_order, constant, hysteretic, frictional, curved, banded, planar, planar_ellipse}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;
@@ -112,6 +117,12 @@ TEST(FpamConfig, ThePhysicsCoresRulesNameTheActuator) {
   EXPECT_NE(error.find("actuator 'flexor': rest_length L0 [m] = 12: must be at most 10"), std::string::npos) << error;
   EXPECT_FALSE(read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=0 K2=5", &error));
   EXPECT_NE(error.find("actuator 'flexor': mount stiffness K1"), std::string::npos) << error;
+  EXPECT_FALSE(
+      read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=3 K2=5 "
+           "mount_exponent=12",
+           &error));
+  EXPECT_NE(error.find("actuator 'flexor': mount law exponent n = 12: must lie in [0.5, 8]"), std::string::npos)
+      << error;
   EXPECT_FALSE(read("softwrist.fpam rest_length=0.3 r0=0.0123 eps_max=0.28 stretch=oneshot K1=3", &error));
   EXPECT_NE(error.find("actuator 'flexor': attribute 'K2': must be given when the mounts stretch"), std::string::npos)
       << error;

@@ -85,6 +85,15 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_NO_THROW(parse_device(device_to_json(long_wrist), "x.json"));
   long_wrist.wrist.radial_limit = long_wrist.wrist.ulnar_limit = units::deg_to_rad(60.0);
   EXPECT_THROW(check_hand_mount_clearance(long_wrist), physics::InvalidParameter);
+  // Mounts whose take-up is not quadratic (physics/mount_stretch.h) likewise; the paper's law writes neither.
+  DeviceDescription banded = paper_device();
+  banded.mount_stiffness.exponent = 1.0;
+  banded.mount_stiffness.preload = 8.0;
+  const std::string banded_text = device_to_json(banded);
+  EXPECT_DOUBLE_EQ(parse_device(banded_text, "x.json").mount_stiffness.exponent, 1.0);
+  EXPECT_DOUBLE_EQ(parse_device(banded_text, "x.json").mount_stiffness.preload, 8.0);
+  EXPECT_EQ(device_to_json(parse_device(banded_text, "x.json")), banded_text);
+  EXPECT_EQ(device_to_json(paper_device()).find("preload_n"), std::string::npos);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
   EXPECT_EQ(symmetric.find("vent_time_constant_s"), std::string::npos);
@@ -131,6 +140,7 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["fpam"]["hysteresis_length_mm"] = 0; }), "fpam.hysteresis_length_mm: must be"},
       {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
+      {with([](auto& j) { j["stretch"]["preload_n"] = -2; }), "stretch: mount preload F_p [N] = -2"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = 1e4; }), "regulator.vent_time_constant_s"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = -1; }), "regulator.vent_time_constant_s"},
