@@ -19,7 +19,9 @@
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
+#include "diagnosis/tolerance.h"
 #include "diagnosis/tolerance_fit.h"
+#include "physics/errors.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -496,10 +498,36 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
   }
 }
 
+// The held-out error, over `acted_on`, of `base` with `id` at `values` brought back into the effect's own tolerance
+// box (tolerance_box; a parameter without a tolerance at its nominal value): what the tolerances alone reach of the
+// effect's fit. Infinite where the box's values do not make a valid model.
+double heldout_error_in_own_box(const GapProblem& problem, const ModelVariant& base, EffectId id,
+                                std::vector<double> values, const sim::DeviceDescription& nominal_device,
+                                const DiagnosisOptions& options, const std::vector<bool>& acted_on) {
+  const auto box = tolerance_box(id, nominal_device, options.tolerances);
+  const std::vector<double> start = fit_start(id, nominal_device);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = box ? std::clamp(values[i], (*box)[i].first, (*box)[i].second) : start[i];
+  ModelVariant projected = base;
+  try {
+    apply_effect(id, values, projected);
+  } catch (const physics::InvalidParameter&) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return problem.heldout_error(problem.heldout_sums(problem.evaluate(projected, false)), nullptr, &acted_on);
+}
+
 // How much of the held-out gap the leading effect closes on its own from the base it was fitted on, over the gap
-// trials of the kinds it acts on.
-void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& base,
-                       const Predictions& base_full) {
+// trials of the kinds it acts on; only what it closes beyond its own tolerance box counts. Fitted from its own base
+// (the tolerance fit with its own tolerance parameters back at the nominal), an effect whose fit ends back inside
+// that box would otherwise take the part of the gap that its own reset had opened and the tolerances had closed (the
+// independent device's seed 9: fpam_params, back at r0 x 1.0001 and eps_max -0.003, "explained" 78 % of a tensile gap
+// the tolerances had left at 1.55 noise units, in most data sets). An effect fitted beyond its box keeps the share it
+// closes from its base: its box's values, reached from the same base, leave that share's gap (the catalogue
+// benchmark's fPAM case, r0 x 1.086 with an eps_max that falls with pressure, whose whole tolerance fit ended in
+// another basin, r0 at 0.97).
+void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& base, const Predictions& base_full,
+                       const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   if (d.combination.empty()) return;
   const EffectFit& leading = d.combination.front();
   d.leading_effect = leading.name;
@@ -507,7 +535,11 @@ void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVaria
   if (std::none_of(acted_on.begin(), acted_on.end(), [](bool b) { return b; })) return;
   ModelVariant alone = base;
   apply_effect(leading.id, leading.values, alone);
-  const double before = problem.heldout_error(problem.heldout_sums(base_full), nullptr, &acted_on);
+  double before = problem.heldout_error(problem.heldout_sums(base_full), nullptr, &acted_on);
+  if (leading.within_tolerances) {
+    before = std::min(
+        before, heldout_error_in_own_box(problem, base, leading.id, leading.values, nominal_device, options, acted_on));
+  }
   const double after = problem.heldout_error(problem.heldout_sums(problem.evaluate(alone, false)), nullptr, &acted_on);
   d.explained_fraction = fraction_closed(before, after);
 }
@@ -730,6 +762,29 @@ void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& option
   d.also_effects.clear();
 }
 
+// An effect outside the catalogue is reported (`unexplained`) only on a gap that evidences one: some gap trial left at
+// least contradiction_gap noise units off by the nominal within its tolerances, the level at which a trial's residual
+// contradicts a named effect (unexplained_where_contradicted). A smaller residual that no catalogue effect closes is
+// the model's own inexactness, and the verdict is `none`, the residual named (the independent device's nominal, seeds
+// 9 and 10: its tensile test 1.0-1.3 noise units off over 1689 points within the tolerances, which no effect closed).
+void none_without_evidence(Diagnosis& d, const DiagnosisOptions& options) {
+  if (d.verdict != "unexplained") return;
+  const bool within = !d.tolerance.params.empty();
+  const TrialGap* largest = nullptr;
+  double largest_left = 0.0;
+  for (const TrialGap& t : d.trials) {
+    const double left = within ? t.excess_within_tolerance : t.excess_nominal;
+    if (t.gap && left >= largest_left) largest = &t, largest_left = left;
+  }
+  if (largest == nullptr || largest_left >= options.contradiction_gap) return;
+  d.reason = fmt::format(
+      "no effect beyond the model's own inexactness: the largest gap{}, {:.2f} noise units ({}), is below the {} that "
+      "evidence an effect outside the catalogue, and no catalogue effect explains it ({})",
+      within ? " left within the tolerances" : "", largest_left, largest->experiment, options.contradiction_gap,
+      d.reason);
+  d.verdict = "none";
+}
+
 void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   const bool any_significant =
       std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.significant; });
@@ -759,6 +814,7 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   } else {
     decide_as_placed(d, options);
   }
+  none_without_evidence(d, options);
 }
 
 // The diagnosis with the trials prepared (d.prepared) and the nominal routed (apply_routing).
@@ -826,7 +882,7 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
     d.combination = std::move(combination.effects);
     d.corrected.emplace(std::move(combination.model));
     d.corrected_predictions = std::move(combination.full);
-    measure_explained(d, problem, base.variant, base.full);
+    measure_explained(d, problem, base.variant, base.full, nominal_device, options);
     measure_leader_beyond_tolerance(d, problem, nominal, nominal_device, options);
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);

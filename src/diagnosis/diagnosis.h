@@ -87,7 +87,9 @@ struct DiagnosisOptions {
   // The named effect must not contradict the data: a trial the nominal matched (below min_gap) that the corrected
   // model misses significantly by at least this many noise units makes the verdict `unexplained` (a friction where
   // the muscle slides over the wrist fitted as the fabric's own hysteresis puts a loop on the tensile rig, which the
-  // rig did not show: 0.2 -> 3.9 noise units).
+  // rig did not show: 0.2 -> 3.9 noise units). The same level makes a gap evidence of an effect outside the
+  // catalogue: a verdict `unexplained` needs a gap trial this far off within the tolerances, otherwise it is `none`
+  // (the model's own inexactness, diagnosis.cc none_without_evidence).
   double contradiction_gap = 2.0;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them

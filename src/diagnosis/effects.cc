@@ -19,20 +19,25 @@ std::vector<EffectSpec> make_catalogue() {
       {EffectId::kMountStretch,
        "mount_stretch",
        "the mounting points stretch, F = K dx^2 (Eqn. fabric_stretching), self-consistently; torque data constrain "
-       "only "
-       "the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
-       "43.36:1097.50 when the nominal has none)",
-       {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN}},
+       "only the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
+       "43.36:1097.50 when the nominal has none); and the straps' take-up is another power of the pull, or starts "
+       "only above a preload, dx = sqrt(F_r/K) ((F - F_p)+/F_r)^(1/n) (physics/mount_stretch.h: n = 1 a linear "
+       "band, above 2 a strap that stiffens)",
+       {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN},
+        {"exponent", 1.0, 5.0, false, NAN},
+        {"preload_n", 0.0, 20.0, false, NAN}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kFpamParams,
        "fpam_params",
        "the fPAM's r0 scaled and eps_max shifted at every pressure of its table, and its fabric stiffer or softer "
        "(E t scaled) and stiffening as it is stretched (the J-shaped pull of the paper's 0 kPa tensile curve: "
-       "curvature kappa of the fabric-elasticity term, physics/fpam_parameters.h)",
+       "curvature kappa of the fabric-elasticity term, physics/fpam_parameters.h); and the shift of eps_max growing "
+       "with the row's pressure (Table tensile_testing_parameters' eps_max itself changes with pressure, 0.277-0.303)",
        {{"r0_scale", 0.7, 1.3, false, 1.0},
         {"eps_max_shift", -0.08, 0.08, false, 0.0},
         {"fabric_stiffness_scale", 0.25, 10.0, true, 1.0},
-        {"fabric_curvature", 0.0, 50.0, false, 0.0}},
+        {"fabric_curvature", 0.0, 50.0, false, 0.0},
+        {"eps_max_pressure_slope", -0.08, 0.08, false, 0.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
       {EffectId::kRegulatorLag,
        "regulator_lag",
@@ -157,17 +162,25 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       const double c1 = 1.0 / std::sqrt(std::abs(ratio.forearm)), c2 = 1.0 / std::sqrt(std::abs(ratio.hand));
       const double c = 1.0 / std::sqrt(values[0] * 1e4);
       const double scale = c / (c1 + c2);
-      device.mount_stiffness = {.forearm = 1.0 / std::pow(c1 * scale, 2), .hand = 1.0 / std::pow(c2 * scale, 2)};
+      device.mount_stiffness = {.forearm = 1.0 / std::pow(c1 * scale, 2),
+                                .hand = 1.0 / std::pow(c2 * scale, 2),
+                                .exponent = values[1],
+                                .preload = values[2]};
       if (device.stretch_mode == physics::StretchMode::kNone)
         device.stretch_mode = physics::StretchMode::kSelfConsistent;
       break;
     }
     case EffectId::kFpamParams: {
       std::vector<physics::FpamTableRow> rows = device.fpam.rows();
+      double highest_pressure = 0.0;
+      for (const auto& row : rows) highest_pressure = std::max(highest_pressure, row.pressure);
       for (auto& row : rows) {
+        // The slope's shift is zero at half the table's highest pressure, so that it leaves the mean shift to
+        // eps_max_shift.
+        const double relative_pressure = highest_pressure > 0.0 ? row.pressure / highest_pressure : 0.5;
         row.radius *= values[0];
-        row.max_contraction =
-            std::clamp(row.max_contraction + values[1], 0.01, physics::max_contraction_upper_bound() - 1e-6);
+        row.max_contraction = std::clamp(row.max_contraction + values[1] + values[4] * (relative_pressure - 0.5), 0.01,
+                                         physics::max_contraction_upper_bound() - 1e-6);
       }
       device.fpam = device.fpam.with_rows(std::move(rows));
       physics::FabricProperties fabric = device.fpam.fabric();
@@ -254,6 +267,11 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
     const double c = 1.0 / std::sqrt(std::abs(nominal.mount_stiffness.forearm)) +
                      1.0 / std::sqrt(std::abs(nominal.mount_stiffness.hand));
     start[0] = 1.0 / (c * c) / 1e4;
+  }
+  if (id == EffectId::kMountStretch) {  // the nominal's shape, the paper's where its mounts do not stretch
+    const bool stretches = nominal.stretch_mode != physics::StretchMode::kNone;
+    start[1] = stretches ? nominal.mount_stiffness.exponent : 2.0;
+    start[2] = stretches ? nominal.mount_stiffness.preload : 0.0;
   }
   for (std::size_t i = 0; i < start.size(); ++i)
     start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);

@@ -15,6 +15,7 @@
 #include <span>
 
 #include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "diagnosis/benchmark.h"
@@ -147,6 +148,35 @@ TEST_F(DiagnosisTest, PaperCaseWithheldStretchingIsMountStretch) {
   EXPECT_NE(again.verdict, "mount_stretch") << again.reason;
 }
 
+// A gap no catalogue effect closes is an effect outside the catalogue (`unexplained`) only where it is evidence of
+// one: a gap trial left at least contradiction_gap noise units off within the tolerances; below, it is the model's
+// own inexactness and the verdict is `none` (the independent device's nominal, seeds 9 and 10: a tensile test 1.0-1.3
+// noise units off over 1689 points).
+TEST(DiagnosisVerdict, AGapNoEffectExplainsIsUnexplainedOnlyWhereItEvidencesAnEffect) {
+  using ::testing::HasSubstr;
+  Diagnosis d;
+  d.tolerance.params = {{"fpam_params.r0_scale", 1.01}};
+  d.trials.push_back({.experiment = "tensile/trials",
+                      .kind = TrialKind::kTensile,
+                      .excess_nominal = 7.3,
+                      .excess_within_tolerance = 1.3,
+                      .p_value = 1e-9,
+                      .significant = true,
+                      .gap = true});
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "none");
+  EXPECT_THAT(d.reason, HasSubstr("the largest gap left within the tolerances, 1.30 noise units (tensile/trials)"));
+  EXPECT_THAT(d.reason, HasSubstr("no catalogue effect reduces the held-out error meaningfully"));
+  d.trials.front().excess_within_tolerance = 2.4;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "unexplained") << d.reason;
+  DiagnosisOptions lower;
+  lower.contradiction_gap = 1.0;
+  d.trials.front().excess_within_tolerance = 1.3;
+  redecide(d, lower);
+  EXPECT_EQ(d.verdict, "unexplained") << d.reason;
+}
+
 // Each effect, switched on with known parameters, recovered by its own fit (tolerances stated per line).
 TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
@@ -207,8 +237,11 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
       const auto& f = fit_of(d, EffectId::kFpamParams);
       // The search reaches the valley's floor: no more training error than the true parameters leave (BOBYQA, the
       // search before Levenberg-Marquardt, stopped at 2.5 times it on such data).
-      const std::map<std::string, double> true_values{
-          {"r0_scale", 0.9}, {"eps_max_shift", 0.02}, {"fabric_stiffness_scale", 1.0}, {"fabric_curvature", 0.0}};
+      const std::map<std::string, double> true_values{{"r0_scale", 0.9},
+                                                      {"eps_max_shift", 0.02},
+                                                      {"fabric_stiffness_scale", 1.0},
+                                                      {"fabric_curvature", 0.0},
+                                                      {"eps_max_pressure_slope", 0.0}};
       std::vector<double> true_parameters;
       for (const ParameterSpec& p : effect_spec(EffectId::kFpamParams).parameters)
         true_parameters.push_back(true_values.at(p.name));
@@ -344,7 +377,11 @@ TEST_F(DiagnosisTest, FittedWithinTheTolerancesTheEffectIsNamedBeyondItsOwn) {
   const double r0 = param(d.combination.front(), "r0_scale");
   EXPECT_LT(r0, 0.97);
   EXPECT_GT(r0, 0.89);
-  EXPECT_GE(d.explained_fraction, 0.6);
+  // Its share counts only what it closes beyond its own box (measure_explained): from 0.97 to 0.952, a third of the
+  // gap. Fitted jointly with the tolerances (Diagnosis::leader_beyond_tolerance), it takes most of what they leave.
+  EXPECT_LT(d.explained_fraction, 0.5);
+  ASSERT_TRUE(d.leader_beyond_tolerance.has_value());
+  EXPECT_GE(d.leader_beyond_tolerance->explained_fraction, 0.6) << d.reason;
   // The combination starts from the single fits' leader, on the base that leader was fitted on.
   EXPECT_EQ(d.combination.front().id, d.effects.front().id);
   // The effects with no tolerance parameters of their own (the hysteresis, the IMUs) start where the whole tolerance
