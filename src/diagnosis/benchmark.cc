@@ -63,8 +63,9 @@ void vary_device(sim::DeviceDescription& d, Draw& draw, double scale) {
 std::string inject(const std::string& injected, SyntheticDevice& real, Draw& draw) {
   sim::DeviceDescription& d = real.device;
   if (injected == "mount_stretch") {
-    // The catalogue fits the self-consistent law with one series stiffness; this device stretches by the paper's
-    // one-shot reading (the force of the unstretched placement sets the stretch), with K1 and K2 scaled apart.
+    // The catalogue fits the self-consistent law with one series stiffness (and its shape); this device stretches by
+    // the paper's one-shot reading (the force of the unstretched placement sets the stretch), with K1 and K2 scaled
+    // apart.
     const double k = draw.factor(2.0, 5.0), split = draw.factor(1.0, 2.0);
     d.mount_stiffness.forearm *= k * split;
     d.mount_stiffness.hand *= k / split;
@@ -72,17 +73,17 @@ std::string inject(const std::string& injected, SyntheticDevice& real, Draw& dra
     return fmt::format("K1 x {:.3g}, K2 x {:.3g}, one-shot law", k * split, k / split);
   }
   if (injected == "fpam_params") {
-    // The catalogue scales r0 and shifts eps_max alike at every pressure; here r0 differs row by row and the eps_max
-    // shift grows with pressure.
+    // The catalogue scales r0 and shifts eps_max alike at every pressure, and as an extension by a shift linear in
+    // pressure; here r0 differs row by row and the eps_max shift grows with the square of pressure.
     const double r0 = 1.0 + draw.sign() * draw.uniform(0.05, 0.12), shift = draw.sign() * draw.uniform(0.015, 0.04);
     std::vector<physics::FpamTableRow> rows = d.fpam.rows();
     const double p_max = rows.back().pressure > 0.0 ? rows.back().pressure : 1.0;
     for (auto& row : rows) {
       row.radius *= r0 + draw.normal(0.01);
-      row.max_contraction += shift * (0.5 + row.pressure / p_max);
+      row.max_contraction += shift * (0.3 + std::pow(row.pressure / p_max, 2));
     }
     d.fpam = d.fpam.with_rows(std::move(rows));
-    return fmt::format("r0 x {:.3f} (+-0.01 per row), eps_max {:+.4f} x (0.5 + p/p_max)", r0, shift);
+    return fmt::format("r0 x {:.3f} (+-0.01 per row), eps_max {:+.4f} x (0.3 + (p/p_max)^2)", r0, shift);
   }
   if (injected == "regulator_lag") {
     // The catalogue fits one first-order stage and a dead time; this regulator has two stages.

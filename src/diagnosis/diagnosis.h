@@ -64,8 +64,8 @@ struct DiagnosisOptions {
   // Ranking the effects fitted in one round: the fewest parameters among those whose held-out error lies within one
   // bootstrap standard error (paired) of the lowest (the one-standard-error rule, effect_fit.h). It replaced a penalty
   // of 0.03 shrink per parameter, set when every effect had one to three, which cost a four-parameter effect 0.12 of
-  // shrink whatever the data said (forearm_imu_roll of the independent device: imu_bias closed 18 %, the one-parameter
-  // mount_stretch 16 %, and the mounts led).
+  // shrink whatever the data said (forearm_imu_roll of the independent device: imu_bias closed 18 %, mount_stretch,
+  // then of one parameter, 16 %, and the mounts led).
   bool one_se_rule = true;  // false: the lowest held-out error leads whatever its parameters
   double min_gain = 0.1;    // an effect joins the combination if it cuts the held-out error by this fraction
   // The verdict names an effect when it closes this much of the gap alone (Diagnosis::explained_fraction). Chosen
@@ -198,7 +198,8 @@ struct Diagnosis {
   double gap_closed() const { return gap_nominal > 0.0 ? (gap_nominal - gap_corrected) / gap_nominal : 0.0; }
   bool remaining_gap_significant = false;  // with the corrected model, some trial still differs beyond its noise
   // The effect that explains most (the combination's first) and the fraction of the held-out gap it closes alone in
-  // the gap trials of the kinds it acts on: what the verdict weighs.
+  // the gap trials of the kinds it acts on: what the verdict weighs. Fitted from its own base, only what it closes
+  // beyond its own tolerance box counts (diagnosis.cc, measure_explained).
   std::string leading_effect;
   double explained_fraction = 0.0;
   // When the verdict names the leading effect of a combination that closes the gap only together: the others.

@@ -20,12 +20,12 @@ std::vector<EffectSpec> make_catalogue() {
        "mount_stretch",
        "the mounting points stretch, F = K dx^2 (Eqn. fabric_stretching), self-consistently; torque data constrain "
        "only the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
-       "43.36:1097.50 when the nominal has none); and the straps' take-up is another power of the pull, or starts "
-       "only above a preload, dx = sqrt(F_r/K) ((F - F_p)+/F_r)^(1/n) (physics/mount_stretch.h: n = 1 a linear "
-       "band, above 2 a strap that stiffens)",
+       "43.36:1097.50 when the nominal has none); and, as extensions, the straps' take-up another power of the pull, "
+       "or starting only above a preload, dx = sqrt(F_r/K) ((F - F_p)+/F_r)^(1/n) (physics/mount_stretch.h: n = 1 a "
+       "linear band, above 2 a strap that stiffens)",
        {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN},
-        {"exponent", 1.0, 5.0, false, NAN},
-        {"preload_n", 0.0, 20.0, false, NAN}},
+        {"exponent", physics::kMinMountExponent, physics::kMaxMountExponent, false, 2.0, /*extension=*/true},
+        {"preload_n", 0.0, physics::kMaxMountPreload, false, 0.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kFpamParams,
        "fpam_params",

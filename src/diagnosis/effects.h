@@ -77,7 +77,8 @@ struct ModelVariant {
 void apply_effect(EffectId id, std::span<const double> values, ModelVariant& variant);
 
 // Where a fit of effect `id` starts: its neutral values, or the nominal device's own (regulator time constant, series
-// mount stiffness); the middle of the range (in log space where searched so) when the nominal has no such value.
+// mount stiffness and the mounts' law, the hysteresis); the middle of the range (in log space where searched so) when
+// the nominal has no such value.
 std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal);
 
 // The fitted values with their names, and the values they imply (K1 and K2 of a series stiffness).

@@ -26,10 +26,14 @@ void validate(const MountStiffness& stiffness) {
           "must be finite and non-zero (only |K1| is used)");
   require(std::isfinite(stiffness.hand) && stiffness.hand != 0.0, "mount stiffness K2 [N/m^2]", stiffness.hand,
           "must be finite and non-zero (only |K2| is used)");
+  validate_shape(stiffness);
+}
+
+void validate_shape(const MountStiffness& stiffness) {
   require(stiffness.exponent >= kMinMountExponent && stiffness.exponent <= kMaxMountExponent, "mount law exponent n",
-          stiffness.exponent, "must lie in [0.5, 8] (the paper's is 2)");
+          stiffness.exponent, "must lie in [1, 5] (the paper's is 2)");
   require(stiffness.preload >= 0.0 && stiffness.preload <= kMaxMountPreload, "mount preload F_p [N]", stiffness.preload,
-          "must lie in [0, 1000]");
+          "must lie in [0, 20]");
 }
 
 double mount_stretch(double force, double stiffness, double exponent, double preload) {

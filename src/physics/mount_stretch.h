@@ -54,10 +54,15 @@ struct MountStiffness {
   double preload = 0.0;   // F_p [N], in [0, kMaxMountPreload]
   bool is_papers_law() const { return exponent == 2.0 && preload == 0.0; }
 };
-inline constexpr double kMinMountExponent = 0.5;
-inline constexpr double kMaxMountExponent = 8.0;
-inline constexpr double kMaxMountPreload = 1000.0;  // [N], far above any fPAM's pull here
-void validate(const MountStiffness& stiffness);
+// The shapes' range, the diagnosis's fit's too (so that a placement's own is never clamped there): from a linear band
+// (n < 1 would be a mount that gives more the harder it is pulled, a strap tearing) to a J-curve that has all but
+// locked; a preload up to 20 N, a fifth of the paper's largest pulls (above it the mounts would hardly move in a
+// sweep).
+inline constexpr double kMinMountExponent = 1.0;
+inline constexpr double kMaxMountExponent = 5.0;
+inline constexpr double kMaxMountPreload = 20.0;       // [N]
+void validate(const MountStiffness& stiffness);        // K1, K2 and the shape
+void validate_shape(const MountStiffness& stiffness);  // the exponent and the preload only
 
 // Eqn. fabric_stretching solved for one mount of stiffness K: dx = sqrt(F / |K|) [m]; with another `exponent` n and
 // `preload` F_p [N], the law of MountStiffness.

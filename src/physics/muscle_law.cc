@@ -12,6 +12,7 @@ void validate(const MuscleLaw& law) {
   require_positive("rest_length L0 [m]", law.rest_length);
   require(law.rest_length <= plausible::kMaxLength, "rest_length L0 [m]", law.rest_length, "must be at most 10");
   if (law.stretch_mode != StretchMode::kNone) validate(law.mount_stiffness);
+  validate_shape(law.mount_stiffness);  // a shape out of range is wrong whether or not the mounts stretch
 }
 
 namespace {

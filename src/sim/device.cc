@@ -193,12 +193,11 @@ void read_stretch(Reader stretch, DeviceDescription& device) {
                             .hand = units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0)),
                             .exponent = stretch.number("exponent", 2.0),
                             .preload = stretch.number("preload_n", 0.0)};
-  if (device.stretch_mode != physics::StretchMode::kNone) {
-    try {
-      physics::validate(device.mount_stiffness);
-    } catch (const physics::InvalidParameter& e) {
-      stretch.fail("", e.what());
-    }
+  try {
+    if (device.stretch_mode != physics::StretchMode::kNone) physics::validate(device.mount_stiffness);
+    physics::validate_shape(device.mount_stiffness);  // whatever the mode: it is written back as read
+  } catch (const physics::InvalidParameter& e) {
+    stretch.fail("", e.what());
   }
   stretch.finish();
 }

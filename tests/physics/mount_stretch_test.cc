@@ -76,8 +76,8 @@ TEST(MountStretch, OtherShapesKeepThePapersStretchAtTheReferencePull) {
   EXPECT_EQ(mount_stretch(7.9, k, 1.0, 8.0), 0.0);
   EXPECT_EQ(mount_stretch(8.0, k, 3.0, 8.0), 0.0);
   EXPECT_NEAR(mount_stretch(8.0 + kMountReferenceForce, k, 3.0, 8.0), papers, 1e-15);
-  // The paper's shape is the two-argument law for any pull.
-  EXPECT_DOUBLE_EQ(mount_stretch(55.0, k, 2.0, 0.0), mount_stretch(55.0, k));
+  // n = 2 with a preload: the paper's law shifted to start at F_p.
+  EXPECT_NEAR(mount_stretch(8.0 + 55.0, k, 2.0, 8.0), std::sqrt(55.0 / 43.36e4), 1e-15);
   const MountStiffness band{.forearm = k, .hand = kPaperStiffness.hand, .exponent = 1.0, .preload = 8.0};
   EXPECT_DOUBLE_EQ(total_mount_stretch(50.0, band),
                    mount_stretch(50.0, band.forearm, 1.0, 8.0) + mount_stretch(50.0, band.hand, 1.0, 8.0));
@@ -109,7 +109,7 @@ TEST(SolveMountStretch, SelfConsistentForAnyShapeSatisfiesBothLaws) {
   const auto force_at_length = [](double l) {
     return std::max(0.0, 3000.0 * (l - 0.2) - 40.0 * (l - 0.2) * (l - 0.2));
   };
-  for (const double n : {1.0, 1.7, 3.0, 5.0}) {
+  for (const double n : {1.0, 1.7, 2.0, 3.0, 5.0}) {
     for (const double preload : {0.0, 4.0}) {
       const MountStiffness shape{
           .forearm = kPaperStiffness.forearm, .hand = kPaperStiffness.hand, .exponent = n, .preload = preload};
@@ -117,6 +117,10 @@ TEST(SolveMountStretch, SelfConsistentForAnyShapeSatisfiesBothLaws) {
         const auto s = solve_mount_stretch(force_at_length, length, shape, StretchMode::kSelfConsistent);
         EXPECT_NEAR(s.force, force_at_length(length - s.mount_stretch), 1e-9 * (1.0 + s.force)) << n << " " << length;
         EXPECT_NEAR(s.mount_stretch, total_mount_stretch(s.force, shape), 1e-12) << n << " " << length;
+        // One-shot: the stretch of the unstretched pull, then the force once more (and no more than the fixed point).
+        const auto once = solve_mount_stretch(force_at_length, length, shape, StretchMode::kOneShot);
+        EXPECT_NEAR(once.mount_stretch, total_mount_stretch(force_at_length(length), shape), 1e-15);
+        EXPECT_LE(once.force, s.force + 1e-9) << n << " " << length;
       }
     }
   }

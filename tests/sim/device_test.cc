@@ -141,6 +141,11 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["stretch"]["mode"] = "maybe"; }), "stretch.mode: 'maybe'"},
       {with([](auto& j) { j["stretch"]["K1_n_per_cm2"] = 0; }), "stretch: mount stiffness K1"},
       {with([](auto& j) { j["stretch"]["preload_n"] = -2; }), "stretch: mount preload F_p [N] = -2"},
+      {with([](auto& j) {
+         j["stretch"]["mode"] = "none";  // not used, but written back as read: checked all the same
+         j["stretch"]["exponent"] = 9;
+       }),
+       "stretch: mount law exponent n = 9: must lie in [1, 5]"},
       {with([](auto& j) { j["regulator"]["max_pressure_kpa"] = -1; }), "regulator.max_pressure_kpa: must be > 0"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = 1e4; }), "regulator.vent_time_constant_s"},
       {with([](auto& j) { j["regulator"]["vent_time_constant_s"] = -1; }), "regulator.vent_time_constant_s"},
