@@ -110,7 +110,8 @@ sim::DeviceDescription emulated_description(const EmulatorConfig& config) {
   sim::DeviceDescription d = sim::load_device(config.model);
   const EmulatorEffects& fx = config.effects;
   if (fx.mount_stiffness) {
-    d.mount_stiffness = *fx.mount_stiffness;
+    d.mount_stiffness.forearm = fx.mount_stiffness->forearm;  // the placement's law's shape stays
+    d.mount_stiffness.hand = fx.mount_stiffness->hand;
     d.stretch_mode = physics::StretchMode::kSelfConsistent;
   }
   if (fx.regulator_time_constant_s) d.regulator.time_constant = *fx.regulator_time_constant_s;

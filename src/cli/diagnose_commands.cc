@@ -145,7 +145,8 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   if (!o.mount_stiffness.empty()) {
     const auto k = parse_numbers(o.mount_stiffness, 2, "--mount-stiffness-n-per-cm2");
     if (k[0] <= 0 || k[1] <= 0) throw UsageError("--mount-stiffness-n-per-cm2: both stiffnesses must be > 0");
-    d.mount_stiffness = {k[0] * 1e4, k[1] * 1e4};
+    d.mount_stiffness.forearm = k[0] * 1e4;  // the placement's law's shape (physics/mount_stretch.h) stays
+    d.mount_stiffness.hand = k[1] * 1e4;
     d.stretch_mode = physics::StretchMode::kSelfConsistent;
   }
   if (!o.imu_offset_deg.empty()) {
