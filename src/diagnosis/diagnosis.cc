@@ -526,14 +526,15 @@ double heldout_error_in_own_box(const GapProblem& problem, const ModelVariant& b
 }
 
 // How much of the held-out gap the leading effect closes on its own from the base it was fitted on, over the gap
-// trials of the kinds it acts on; only what it closes beyond its own tolerance box counts. Fitted from its own base
-// (the tolerance fit with its own tolerance parameters back at the nominal), an effect whose fit ends back inside
-// that box would otherwise take the part of the gap that its own reset had opened and the tolerances had closed (the
-// independent device's seed 9: fpam_params, back at r0 x 1.0001 and eps_max -0.003, "explained" 78 % of a tensile gap
-// the tolerances had left at 1.55 noise units, in most data sets). An effect fitted beyond its box keeps the share it
+// trials of the kinds it acts on; only what it closes beyond its own tolerance box counts (fitted from the nominal as
+// placed, beyond the whole tolerance fit). Fitted from its own base (the tolerance fit with its own tolerance
+// parameters back at the nominal), an effect whose fit ends back inside that box would otherwise take the part of the
+// gap that its own reset had opened and the tolerances had closed (the independent device's seed 9: fpam_params, back
+// at r0 x 1.0001 and eps_max -0.003, "explained" 78 % of a tensile gap the tolerances had left at 1.55 noise units, in
+// most data sets). An effect fitted beyond its box keeps the share it
 // closes from its base: its box's values, reached from the same base, leave that share's gap (the catalogue
-// benchmark's fPAM case, r0 x 1.086 with an eps_max that falls with pressure, whose whole tolerance fit ended in
-// another basin, r0 at 0.97).
+// benchmark's fPAM case, r0 x 1.086 with an eps_max shifted more at higher pressure, whose whole tolerance fit ended
+// in another basin, r0 at 0.97).
 void measure_explained(Diagnosis& d, const GapProblem& problem, const ModelVariant& base, const Predictions& base_full,
                        const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   if (d.combination.empty()) return;
