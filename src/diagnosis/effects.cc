@@ -263,15 +263,10 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
     const physics::FpamHysteresis& h = nominal.hysteresis;
     start = {h.fraction, h.friction_force, h.pressure_friction, units::m_to_mm(h.transition_length)};
   }
+  // The nominal's series stiffness and law; where its mounts do not stretch, the neutral paper's law.
   if (id == EffectId::kMountStretch && nominal.stretch_mode != physics::StretchMode::kNone) {
-    const double c = 1.0 / std::sqrt(std::abs(nominal.mount_stiffness.forearm)) +
-                     1.0 / std::sqrt(std::abs(nominal.mount_stiffness.hand));
-    start[0] = 1.0 / (c * c) / 1e4;
-  }
-  if (id == EffectId::kMountStretch) {  // the nominal's shape, the paper's where its mounts do not stretch
-    const bool stretches = nominal.stretch_mode != physics::StretchMode::kNone;
-    start[1] = stretches ? nominal.mount_stiffness.exponent : 2.0;
-    start[2] = stretches ? nominal.mount_stiffness.preload : 0.0;
+    const double c = physics::mount_compliance(nominal.mount_stiffness);
+    start = {1.0 / (c * c) / 1e4, nominal.mount_stiffness.exponent, nominal.mount_stiffness.preload};
   }
   for (std::size_t i = 0; i < start.size(); ++i)
     start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);

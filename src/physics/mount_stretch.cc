@@ -36,13 +36,24 @@ void validate_shape(const MountStiffness& stiffness) {
           "must lie in [0, 20]");
 }
 
+namespace {
+
+// The law in the solver's variable for mounts of total compliance c = sum 1/sqrt|K_i| (mount_stretch.h):
+// c sqrt(F_r) ((F - F_p) / F_r)^(1/n) = k u with u = (F - F_p)^(1/n); k = c for the paper's n = 2.
+MountTakeUp take_up_of(double compliance, double exponent, double preload) {
+  const double per_unit =
+      exponent == 2.0 ? compliance
+                      : compliance * std::sqrt(kMountReferenceForce) * std::pow(kMountReferenceForce, -1.0 / exponent);
+  return {.per_unit = per_unit, .exponent = exponent, .preload = preload};
+}
+
+}  // namespace
+
 double mount_stretch(double force, double stiffness, double exponent, double preload) {
   require_non_negative("force F [N]", force);
   validate(MountStiffness{.forearm = stiffness, .hand = stiffness, .exponent = exponent, .preload = preload});
-  if (exponent == 2.0 && preload == 0.0) return std::sqrt(force / std::abs(stiffness));
-  if (force <= preload) return 0.0;
-  const double stretch_at_reference = std::sqrt(kMountReferenceForce / std::abs(stiffness));
-  return stretch_at_reference * std::pow((force - preload) / kMountReferenceForce, 1.0 / exponent);
+  const MountTakeUp one_mount = take_up_of(1.0 / std::sqrt(std::abs(stiffness)), exponent, preload);
+  return one_mount.per_unit * one_mount.unit(force);
 }
 
 double total_mount_stretch(double force, const MountStiffness& stiffness) {
@@ -51,12 +62,7 @@ double total_mount_stretch(double force, const MountStiffness& stiffness) {
 }
 
 MountTakeUp mount_take_up(const MountStiffness& stiffness) {
-  const double c = mount_compliance(stiffness);
-  if (stiffness.exponent == 2.0) return {.per_unit = c, .exponent = 2.0, .preload = stiffness.preload};
-  // c sqrt(F_r) ((F - F_p) / F_r)^(1/n) = k u with u = (F - F_p)^(1/n).
-  return {.per_unit = c * std::sqrt(kMountReferenceForce) * std::pow(kMountReferenceForce, -1.0 / stiffness.exponent),
-          .exponent = stiffness.exponent,
-          .preload = stiffness.preload};
+  return take_up_of(mount_compliance(stiffness), stiffness.exponent, stiffness.preload);
 }
 
 }  // namespace softwrist::physics
