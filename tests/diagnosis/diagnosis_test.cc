@@ -177,6 +177,47 @@ TEST(DiagnosisVerdict, AGapNoEffectExplainsIsUnexplainedOnlyWhereItEvidencesAnEf
   EXPECT_EQ(d.verdict, "unexplained") << d.reason;
 }
 
+// A named effect contradicts a trial the nominal matched only where the model it was added to matched it too: a miss
+// that base already had is the tolerance fit's trade between trials (the independent device's seed 12: a regulator
+// fitted on tolerances that had moved the ellipses' angles from 0.4 to 3.95 noise units).
+TEST(DiagnosisVerdict, AnEffectIsContradictedOnlyByATrialItsBaseMatched) {
+  using ::testing::HasSubstr;
+  Diagnosis d;
+  d.tolerance.params = {{"regulator_lag.time_constant_s", 0.07}};
+  EffectFit lag{.id = EffectId::kRegulatorLag, .name = "regulator_lag", .within_tolerances = true};
+  d.effects = d.combination = {lag};
+  d.leading_effect = "regulator_lag";
+  d.explained_fraction = 0.78;
+  d.trials.push_back({.experiment = "ellipse pressures",
+                      .kind = TrialKind::kTrajectory,
+                      .excess_nominal = 2.5,
+                      .excess_corrected = 0.6,
+                      .excess_within_tolerance = 2.2,
+                      .p_value = 1e-9,
+                      .significant = true,
+                      .gap = true});
+  d.trials.push_back({.experiment = "ellipse angles",
+                      .kind = TrialKind::kTrajectory,
+                      .excess_nominal = 0.4,
+                      .excess_corrected = 3.95,
+                      .excess_within_tolerance = 3.95,
+                      .p_value = 0.5,
+                      .remaining_significant = true});
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "regulator_lag") << d.reason;
+  // The same miss by an effect fitted from the nominal as placed, which matched the trial: contradicted.
+  d.combination.front().within_tolerances = false;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "unexplained");
+  EXPECT_THAT(d.reason,
+              HasSubstr("regulator_lag contradicts ellipse angles: the nominal matched it (0.40 noise units)"));
+  // And by one fitted on a base that matched it too.
+  d.combination.front().within_tolerances = true;
+  d.trials.back().excess_within_tolerance = 0.5;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "unexplained") << d.reason;
+}
+
 // Each effect, switched on with known parameters, recovered by its own fit (tolerances stated per line).
 TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
