@@ -749,7 +749,9 @@ void decide_beyond_tolerances(Diagnosis& d, const DiagnosisOptions& options) {
 }
 
 // A trial's excess with the model the corrected one was built on: the nominal within its tolerances where the
-// leader was fitted on them (its own base, or ranked beyond them), the nominal as placed otherwise.
+// leader was fitted on them (its own base, or ranked beyond them), the nominal as placed otherwise. The whole
+// tolerance fit's excess stands for the own base's, which differs from it only in the leader's own tolerance
+// parameters (the base's own excess is not kept).
 double excess_of_base(const Diagnosis& d, const TrialGap& t) {
   const bool on_tolerances =
       !d.tolerance.params.empty() &&

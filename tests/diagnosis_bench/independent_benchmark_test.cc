@@ -224,7 +224,7 @@ TEST(IndependentBenchmark, DefaultsAreTheCalibratedSettings) {
   // The record is the calibration's own output: the runs it was chosen from give it again.
   const std::string runs_file = std::string(SOFTWRIST_SOURCE_DIR) + "/experiments/diagnosis_calibration/seed1001.json";
   const std::vector<IndependentRun> runs = runs_from_json(nlohmann::json::parse(std::ifstream(runs_file)), runs_file);
-  const DecisionSettings before{.explained_fraction = 0.6, .pair_share = 0.3, .contradiction_gap = 2.0};
+  const DecisionSettings before{.explained_fraction = 0.5, .pair_share = 0.3, .contradiction_gap = 2.0};
   EXPECT_EQ(calibrate_decisions(runs, before)["chosen"], record.at("chosen"));
 }
 
