@@ -749,23 +749,25 @@ void decide_beyond_tolerances(Diagnosis& d, const DiagnosisOptions& options) {
 }
 
 // A trial's excess with the model the corrected one was built on: the nominal within its tolerances where the
-// leader was fitted on them (its own base, or ranked beyond them), the nominal as placed otherwise. The whole
-// tolerance fit's excess stands for the own base's, which differs from it only in the leader's own tolerance
-// parameters (the base's own excess is not kept).
+// single fits' leader, whose base the combination starts from, was fitted on them (its own base), or where the
+// effects were ranked beyond them; the nominal as placed otherwise. The whole tolerance fit's excess stands for the
+// own base's, which differs from it only in the leader's own tolerance parameters (not kept apart; an approximation
+// where those move the trial, as an fPAM's r0 moves a range of motion).
 double excess_of_base(const Diagnosis& d, const TrialGap& t) {
   const bool on_tolerances =
       !d.tolerance.params.empty() &&
-      (!d.beyond_tolerance.empty() || (!d.combination.empty() && d.combination.front().within_tolerances));
+      (!d.beyond_tolerance.empty() || (!d.effects.empty() && d.effects.front().within_tolerances));
   return on_tolerances ? t.excess_within_tolerance : t.excess_nominal;
 }
 
 // A named effect is not the cause where the data contradict it: the gap drifts between the repetitions of a
 // condition (drift.h), which no constant property of the device closes, or the corrected model misses a trial the
 // nominal matched (DiagnosisOptions::contradiction_gap), both as placed and as the base the effect was added to. A
-// miss its base already had is the tolerance fit's trade between trials, not the effect's (the independent device's
-// seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap, fitted on the tolerances that had traded
-// its ellipses' angles, 0.0-0.6 noise units as placed, for its range of motion, to 2.8-3.9; the regulator does not
-// move a trajectory replayed from its measured pressures).
+// miss the base already had is the tolerance fit's trade between trials, not the effect's (the independent device's
+// seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap, was added to a tolerance fit that had
+// moved the ellipses' angle trials from 0.0-0.6 noise units as placed to 2.8-3.9, for the range of motion; the
+// corrected model missed them by as much, and a regulator does not move a trajectory replayed from its measured
+// pressures).
 void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
   if (d.verdict == "none" || d.verdict == "unexplained") return;
   std::vector<std::string> why;

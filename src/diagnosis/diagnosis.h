@@ -70,10 +70,11 @@ struct DiagnosisOptions {
   double min_gain = 0.1;    // an effect joins the combination if it cuts the held-out error by this fraction
   // The verdict names an effect when it closes this much of the gap alone (Diagnosis::explained_fraction). Chosen
   // with pair_share and contradiction_gap on the independent device's calibration seed 1001, before the reported run
-  // (experiments/diagnosis_calibration/settings.json, diagnosed by commit b59aeef: 0.3 and 0.4 tie at the best mean
-  // rate, 0.76 against 0.67 for the 0.5, 0.3, 2 chosen on the same seed by commit bdaaa44 and in use until then; two
-  // single forms more named and one outside form more `unexplained`). The first calibration's 0.6 came from the
-  // catalogue generator's seeds 1001-1005, where single effects closed 0.63-0.99 of their gap.
+  // (experiments/diagnosis_calibration/settings.json, diagnosed by b59aeef with 34dbfe6's grid: 0.3 and 0.4 tie at the
+  // best mean rate, 0.4 nearest the setting in use, 0.76 against 0.67 for the 0.5, 0.3, 2 chosen on the same seed by
+  // commit bdaaa44 and in use until then; two single forms more named and one outside form more `unexplained`). The
+  // first calibration's 0.6 came from the catalogue generator's seeds 1001-1005, where single effects closed 0.63-0.99
+  // of their gap.
   double explained_fraction = 0.4;
   // A device has several unmodelled effects at once. When no effect closes explained_fraction alone but the
   // combination does, the verdict names the combination's leading effect if that alone closes at least this much,
@@ -86,13 +87,14 @@ struct DiagnosisOptions {
   // 0.03 deg offset of a trajectory, which no user would call a gap. Tested per trial, so that clean trials of other
   // kinds do not average a clear gap away.
   double min_gap = 1.0;
-  // The named effect must not contradict the data: a trial the nominal matched (below min_gap) that the corrected
-  // model misses significantly by at least this many noise units makes the verdict `unexplained` (a friction where
-  // the muscle slides over the wrist fitted as the fabric's own hysteresis puts a loop on the tensile rig, which the
-  // rig did not show: 0.2 -> 3.9 noise units). The same level makes a gap evidence of an effect outside the
-  // catalogue: a verdict `unexplained` needs a gap trial this far off within the tolerances, otherwise it is `none`
-  // (the model's own inexactness, diagnosis.cc none_without_evidence). Calibrated with explained_fraction (above):
-  // 1.5, the grid's lowest, where 2 had left the outside strap_slip `none`.
+  // The named effect must not contradict the data: a trial the nominal matched (below min_gap), as placed and as the
+  // corrected model's base (diagnosis.cc excess_of_base), that the corrected model misses significantly by at least
+  // this many noise units makes the verdict `unexplained` (a friction where the muscle slides over the wrist fitted as
+  // the fabric's own hysteresis puts a loop on the tensile rig, which the rig did not show: 0.2 -> 3.9 noise units).
+  // The same level makes a gap evidence of an effect outside the catalogue: a verdict `unexplained` needs a gap trial
+  // this far off within the tolerances, otherwise it is `none` (the model's own inexactness, diagnosis.cc
+  // none_without_evidence). Calibrated with explained_fraction (above): 1.5, the grid's lowest, where 2 had left the
+  // outside strap_slip `none`.
   double contradiction_gap = 1.5;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them

@@ -65,8 +65,8 @@ struct DecisionSettings {
 // The decision settings `options` holds, and `options` with `settings` in their place.
 DecisionSettings decision_settings(const diagnosis::DiagnosisOptions& options);
 diagnosis::DiagnosisOptions with_settings(diagnosis::DiagnosisOptions options, const DecisionSettings& settings);
-// The grid each run is decided on besides its own settings: every combination of explained_fraction 0.4-0.7,
-// pair_share 0.2-0.4 and contradiction_gap 1.5-3 noise units, around the catalogue-calibrated 0.6, 0.3 and 2.
+// The grid each run is decided on besides its own settings: every combination of explained_fraction 0.3-0.7,
+// pair_share 0.2-0.4 and contradiction_gap 1.5-3 noise units (experiments/diagnosis_calibration/README.md).
 std::vector<DecisionSettings> decision_grid();
 
 struct SettingVerdict {

@@ -179,11 +179,12 @@ TEST(DiagnosisVerdict, AGapNoEffectExplainsIsUnexplainedOnlyWhereItEvidencesAnEf
 
 // A named effect contradicts a trial the nominal matched only where the model it was added to matched it too: a miss
 // that base already had is the tolerance fit's trade between trials (the independent device's seed 12: a regulator
-// fitted on tolerances that had moved the ellipses' angles from 0.4 to 3.95 noise units).
+// added to a tolerance fit that had moved the ellipses' angles from 0.0-0.6 to 2.8-3.9 noise units).
 TEST(DiagnosisVerdict, AnEffectIsContradictedOnlyByATrialItsBaseMatched) {
   using ::testing::HasSubstr;
   Diagnosis d;
   d.tolerance.params = {{"regulator_lag.time_constant_s", 0.07}};
+  d.tolerance.moved = {0.4};
   EffectFit lag{.id = EffectId::kRegulatorLag, .name = "regulator_lag", .within_tolerances = true};
   d.effects = d.combination = {lag};
   d.leading_effect = "regulator_lag";
@@ -206,13 +207,13 @@ TEST(DiagnosisVerdict, AnEffectIsContradictedOnlyByATrialItsBaseMatched) {
   redecide(d, DiagnosisOptions{});
   EXPECT_EQ(d.verdict, "regulator_lag") << d.reason;
   // The same miss by an effect fitted from the nominal as placed, which matched the trial: contradicted.
-  d.combination.front().within_tolerances = false;
+  d.effects.front().within_tolerances = false;
   redecide(d, DiagnosisOptions{});
   EXPECT_EQ(d.verdict, "unexplained");
   EXPECT_THAT(d.reason,
               HasSubstr("regulator_lag contradicts ellipse angles: the nominal matched it (0.40 noise units)"));
   // And by one fitted on a base that matched it too.
-  d.combination.front().within_tolerances = true;
+  d.effects.front().within_tolerances = true;
   d.trials.back().excess_within_tolerance = 0.5;
   redecide(d, DiagnosisOptions{});
   EXPECT_EQ(d.verdict, "unexplained") << d.reason;
