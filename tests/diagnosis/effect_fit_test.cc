@@ -127,5 +127,32 @@ TEST_F(LeaderOfRound, NoneApplicableIsNoLeader) {
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), fits.size());
 }
 
+// The bootstrap interval of a shrink (gap_problem.h, bootstrap_interval) of a change that moves some held-out units
+// only: a torque sweep holding out four angles of which the muscle wraps at two, a wrap that closes those two and
+// leaves the straight-line two bit for bit. One resample in sixteen draws the straight-line angles alone and closes
+// exactly 0; such resamples say nothing of the wrap, and the interval is the shrink's among those that hold a moved
+// unit. The same two units made worse give an interval below zero: the rule still refuses a change that hurts.
+TEST(BootstrapInterval, ResamplesHoldingNoUnitTheChangeMovesSayNothing) {
+  Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+  PreparedTrial sweep{.trial = &trial, .name = "sweep", .unit = "N m", .noise = 1.0};
+  for (int u = 0; u < 4; ++u) sweep.points.push_back(Point{.unit = u, .heldout = true});
+  std::vector<PreparedTrial> trials = {sweep};
+  ReplayEngine engine{sim::PluginSet::Default()};
+  const GapProblem problem{trials, engine};
+  const auto sums = [](std::vector<double> mean_square) {
+    UnitSums s;
+    for (double m : mean_square) s.per_trial.resize(1), s.per_trial[0].emplace_back(25.0 * m, 25);
+    return s;
+  };
+  const UnitSums before = sums({10.0, 10.0, 5.0, 5.0});
+  const auto [low, high] = bootstrap_interval(problem, before, sums({1.0, 1.0, 5.0, 5.0}), 2000, 3);
+  EXPECT_GT(low, 0.0) << "interval " << low << " to " << high;
+  const auto [worse_low, worse_high] = bootstrap_interval(problem, before, sums({20.0, 20.0, 5.0, 5.0}), 2000, 3);
+  EXPECT_LT(worse_high, 0.0) << "interval " << worse_low << " to " << worse_high;
+  // A change that moves every unit: the moved-unit condition leaves every resample in.
+  const auto [all_low, all_high] = bootstrap_interval(problem, before, sums({1.0, 1.0, 4.0, 4.0}), 2000, 3);
+  EXPECT_GT(all_low, 0.0) << "interval " << all_low << " to " << all_high;
+}
+
 }  // namespace
 }  // namespace softwrist::diagnosis
