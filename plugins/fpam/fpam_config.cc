@@ -188,7 +188,8 @@ std::optional<FpamConfig> FpamConfig::FromConfig(const PluginConfig& config, std
   law.mount_stiffness = {.forearm = read.Number(kForearmStiffness, 0.0),
                          .hand = read.Number(kHandStiffness, 0.0),
                          .exponent = read.Number(kMountExponent, 2.0),
-                         .preload = read.Number(kMountPreload, 0.0)};
+                         .preload = read.Number(kMountPreload, 0.0),
+                         .shaped_share = read.Number(kMountShapedShare, 1.0)};
   if (read.ok()) {
     try {
       physics::validate(law);  // L0's range and a non-zero stiffness: the physics core's own rules
@@ -258,6 +259,8 @@ std::string FpamConfig::ToText() const {
     if (!law.mount_stiffness.is_papers_law()) {
       text += fmt::format(" {}={:.10g} {}={:.10g}", kMountExponent, law.mount_stiffness.exponent, kMountPreload,
                           law.mount_stiffness.preload);
+      if (law.mount_stiffness.shaped_share != 1.0)
+        text += fmt::format(" {}={:.10g}", kMountShapedShare, law.mount_stiffness.shaped_share);
     }
   }
   text +=

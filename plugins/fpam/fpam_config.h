@@ -37,6 +37,7 @@ struct FpamConfig {
   static constexpr std::string_view kHandStiffness = "K2";                        // [N/m^2], |K2| used
   static constexpr std::string_view kMountExponent = "mount_exponent";            // n, default 2 (the paper's)
   static constexpr std::string_view kMountPreload = "mount_preload";              // F_p [N], default 0
+  static constexpr std::string_view kMountShapedShare = "mount_shaped_share";     // s, default 1 (n, F_p alone)
   static constexpr std::string_view kMaxPressureKpa = "max_pressure_kpa";         // default 137
   static constexpr std::string_view kTimeConstant = "time_constant";              // regulator [s], default 0.1
   static constexpr std::string_view kVentTimeConstant = "vent_time_constant";     // while venting [s], default 0 (same)
@@ -51,7 +52,7 @@ struct FpamConfig {
   static constexpr std::string_view kPlacement = "placement";       // d1,w1,d2,w2 [m] (torque_geometry.h)
   static constexpr std::string_view kWristRadius = "wrist_radius";  // r_w [m]
   static constexpr std::string_view kWrapSurface = "wrap_surface";  // x,y [m],aspect; default 0,0,1 (the paper's)
-  static constexpr std::array<std::string_view, 27> kAttributes = {kRestLength,
+  static constexpr std::array<std::string_view, 28> kAttributes = {kRestLength,
                                                                    kRadius,
                                                                    kMaxContraction,
                                                                    kTablePressureKpa,
@@ -66,6 +67,7 @@ struct FpamConfig {
                                                                    kHandStiffness,
                                                                    kMountExponent,
                                                                    kMountPreload,
+                                                                   kMountShapedShare,
                                                                    kMaxPressureKpa,
                                                                    kTimeConstant,
                                                                    kVentTimeConstant,

@@ -22,10 +22,11 @@ std::vector<EffectSpec> make_catalogue() {
        "only the series stiffness K_s = 1/(1/sqrt(K1) + 1/sqrt(K2))^2, so K1:K2 keep the nominal ratio (the paper's "
        "43.36:1097.50 when the nominal has none); and, as extensions, the straps' take-up another power of the pull, "
        "or starting only above a preload, dx = sqrt(F_r/K) ((F - F_p)+/F_r)^(1/n) (physics/mount_stretch.h: n = 1 a "
-       "linear band, above 2 a strap that stiffens)",
+       "linear band, above 2 a strap that stiffens), in series with mounts of the paper's law for the share 1 - s",
        {{"K_series_n_per_cm2", 3.0, 3000.0, true, NAN},
         {"exponent", physics::kMinMountExponent, physics::kMaxMountExponent, false, 2.0, /*extension=*/true},
-        {"preload_n", 0.0, physics::kMaxMountPreload, false, 0.0, /*extension=*/true}},
+        {"preload_n", 0.0, physics::kMaxMountPreload, false, 0.0, /*extension=*/true},
+        {"shaped_share", 0.0, 1.0, false, 1.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
       {EffectId::kFpamParams,
        "fpam_params",
@@ -165,7 +166,8 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       device.mount_stiffness = {.forearm = 1.0 / std::pow(c1 * scale, 2),
                                 .hand = 1.0 / std::pow(c2 * scale, 2),
                                 .exponent = values[1],
-                                .preload = values[2]};
+                                .preload = values[2],
+                                .shaped_share = values[3]};
       if (device.stretch_mode == physics::StretchMode::kNone)
         device.stretch_mode = physics::StretchMode::kSelfConsistent;
       break;
@@ -266,7 +268,8 @@ std::vector<double> fit_start(EffectId id, const sim::DeviceDescription& nominal
   // The nominal's series stiffness and law; where its mounts do not stretch, the neutral paper's law.
   if (id == EffectId::kMountStretch && nominal.stretch_mode != physics::StretchMode::kNone) {
     const double c = physics::mount_compliance(nominal.mount_stiffness);
-    start = {1.0 / (c * c) / 1e4, nominal.mount_stiffness.exponent, nominal.mount_stiffness.preload};
+    start = {1.0 / (c * c) / 1e4, nominal.mount_stiffness.exponent, nominal.mount_stiffness.preload,
+             nominal.mount_stiffness.shaped_share};
   }
   for (std::size_t i = 0; i < start.size(); ++i)
     start[i] = std::clamp(start[i], spec.parameters[i].lower, spec.parameters[i].upper);

@@ -30,9 +30,9 @@ MountPoints stretched_mount_points(const Placement& placement, double wrist_radi
     forearm_target = {q.q1x, q.q1y};
     hand_target = {q.q2x, q.q2y};
   }
-  const double forearm = mount_stretch(force, stiffness.forearm, stiffness.exponent, stiffness.preload);
-  const double hand = mount_stretch(force, stiffness.hand, stiffness.exponent, stiffness.preload);
-  return {.forearm = towards(mounts.forearm, forearm_target, forearm), .hand = towards(mounts.hand, hand_target, hand)};
+  const MountStretches dx = mount_stretches(force, stiffness);
+  return {.forearm = towards(mounts.forearm, forearm_target, dx.forearm),
+          .hand = towards(mounts.hand, hand_target, dx.hand)};
 }
 
 Placement placement_from_mount_points(const MountPoints& points, double joint_angle) {

@@ -34,6 +34,8 @@ void validate_shape(const MountStiffness& stiffness) {
           stiffness.exponent, "must lie in [1, 5] (the paper's is 2)");
   require(stiffness.preload >= 0.0 && stiffness.preload <= kMaxMountPreload, "mount preload F_p [N]", stiffness.preload,
           "must lie in [0, 20]");
+  require(stiffness.shaped_share >= 0.0 && stiffness.shaped_share <= 1.0, "mount law's shaped share s",
+          stiffness.shaped_share, "must lie in [0, 1] (1: the shaped law alone, 0: the paper's)");
 }
 
 namespace {
@@ -56,12 +58,22 @@ double mount_stretch(double force, double stiffness, double exponent, double pre
   return one_mount.per_unit * one_mount.unit(force);
 }
 
+MountStretches mount_stretches(double force, const MountStiffness& stiffness) {
+  const auto one = [&](double k) {
+    const double s = stiffness.shaped_share;
+    const double shaped = s > 0.0 ? s * mount_stretch(force, k, stiffness.exponent, stiffness.preload) : 0.0;
+    return s < 1.0 ? (1.0 - s) * mount_stretch(force, k) + shaped : shaped;
+  };
+  return {.forearm = one(stiffness.forearm), .hand = one(stiffness.hand)};
+}
+
 double total_mount_stretch(double force, const MountStiffness& stiffness) {
-  return mount_stretch(force, stiffness.forearm, stiffness.exponent, stiffness.preload) +
-         mount_stretch(force, stiffness.hand, stiffness.exponent, stiffness.preload);
+  const MountStretches dx = mount_stretches(force, stiffness);
+  return dx.forearm + dx.hand;
 }
 
 MountTakeUp mount_take_up(const MountStiffness& stiffness) {
+  if (stiffness.shaped_share == 0.0) return take_up_of(mount_compliance(stiffness), 2.0, 0.0);
   return take_up_of(mount_compliance(stiffness), stiffness.exponent, stiffness.preload);
 }
 

@@ -47,12 +47,20 @@ inline constexpr double kMountReferenceForce = 30.0;
 // elastic band, n > 2 a fabric that stiffens as it is pulled (the J-curve of woven straps and soft tissue); F_p a
 // strap pre-tensioned on donning, which gives only once the muscle pulls harder than it. K_i keeps its unit and,
 // at F_r, its stretch.
+//
+// A strap of that shape in series with mounts that stretch as the paper's (a pre-tensioned band over the sleeve and
+// the skin under it): the shaped law takes the share s of each mount's compliance at F_r, the paper's law the rest,
+// dx_i = (1 - s) sqrt(F / |K_i|) + s sqrt(F_r / |K_i|) ((F - F_p)+ / F_r)^(1/n). s = 1 (the default) is the law above
+// alone, s = 0 the paper's whatever the shape; at F_r (F_p = 0) the stretch is sqrt(F_r / |K_i|) for every s.
 struct MountStiffness {
   double forearm = 0.0;
   double hand = 0.0;
-  double exponent = 2.0;  // n, in [kMinMountExponent, kMaxMountExponent]
-  double preload = 0.0;   // F_p [N], in [0, kMaxMountPreload]
-  bool is_papers_law() const { return exponent == 2.0 && preload == 0.0; }
+  double exponent = 2.0;      // n, in [kMinMountExponent, kMaxMountExponent]
+  double preload = 0.0;       // F_p [N], in [0, kMaxMountPreload]
+  double shaped_share = 1.0;  // s, in [0, 1]
+  bool is_papers_law() const { return (exponent == 2.0 && preload == 0.0) || shaped_share == 0.0; }
+  // Whether the stretch is one power of the pull above one preload (the self-consistent solve's variable u below).
+  bool is_one_law() const { return is_papers_law() || shaped_share == 1.0; }
 };
 // The shapes' range, the diagnosis's fit's too (so that a placement's own is never clamped there): from a linear band
 // (n < 1 would be a mount that gives more the harder it is pulled, a strap tearing) to a J-curve that has all but
@@ -67,6 +75,12 @@ void validate_shape(const MountStiffness& stiffness);  // the exponent and the p
 // Eqn. fabric_stretching solved for one mount of stiffness K: dx = sqrt(F / |K|) [m]; with another `exponent` n and
 // `preload` F_p [N], the law of MountStiffness.
 double mount_stretch(double force, double stiffness, double exponent = 2.0, double preload = 0.0);
+struct MountStretches {
+  double forearm = 0.0;  // dx_1 [m]
+  double hand = 0.0;     // dx_2 [m]
+};
+// dx_1 and dx_2 at force F, with MountStiffness's shaped share.
+MountStretches mount_stretches(double force, const MountStiffness& stiffness);
 // dx_1 + dx_2 [m] at force F.
 double total_mount_stretch(double force, const MountStiffness& stiffness);
 // c = 1/sqrt|K_1| + 1/sqrt|K_2| [m/sqrt(N)]: the total stretch of the paper's law is c sqrt(F).
@@ -96,12 +110,47 @@ struct StretchedForce {
 
 // The force of a muscle whose mounts stretch. `force_at_length(L)` is the fPAM force law at path length L
 // (non-decreasing in L); `path_length` the mount-to-mount path length of the unstretched placement.
+// A bracket of the root of a decreasing residual: r_lo > 0 at lo, r_hi < 0 at hi.
+struct RootBracket {
+  double lo, r_lo, hi, r_hi;
+};
+
+// The root by the Illinois method (regula falsi that halves the stale end's residual, so that the bracket closes from
+// both sides), at most 200 steps: the middle of the bracket once `narrow(lo, hi)`, or the step x where
+// `converged(x, r)`.
+template <class Residual, class Narrow, class Converged>
+double illinois_root(const Residual& residual, RootBracket b, const Narrow& narrow, const Converged& converged) {
+  int side = 0;
+  for (int iteration = 0; iteration < 200 && !narrow(b.lo, b.hi); ++iteration) {
+    const double x = (b.lo * b.r_hi - b.hi * b.r_lo) / (b.r_hi - b.r_lo);
+    const double r = residual(x);
+    if (converged(x, r)) return x;
+    if (r > 0.0) {
+      b.lo = x;
+      b.r_lo = r;
+      if (side == +1) b.r_hi *= 0.5;
+      side = +1;
+    } else {
+      b.hi = x;
+      b.r_hi = r;
+      if (side == -1) b.r_lo *= 0.5;
+      side = -1;
+    }
+  }
+  return 0.5 * (b.lo + b.hi);
+}
+
+template <class ForceAtLength>
+StretchedForce solve_mixed_mount_stretch(const ForceAtLength& force_at_length, double path_length,
+                                         const MountStiffness& stiffness, StretchMode mode);
+
 template <class ForceAtLength>
 StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double path_length,
                                    const MountStiffness& stiffness, StretchMode mode) {
   const double unstretched = force_at_length(path_length);
   if (mode == StretchMode::kNone || unstretched <= 0.0) return {unstretched, 0.0};
   validate(stiffness);
+  if (!stiffness.is_one_law()) return solve_mixed_mount_stretch(force_at_length, path_length, stiffness, mode);
   const MountTakeUp take_up = mount_take_up(stiffness);
   if (unstretched <= take_up.preload) return {unstretched, 0.0};  // the mounts give only above their preload
   const double k = take_up.per_unit;
@@ -128,29 +177,35 @@ StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double 
     if (r_upper <= 0.0) hi = upper, r_hi = r_upper;
   }
   if (r_lo <= 0.0) return {take_up.force(lo), k * lo};  // the lower bound is the root (to rounding)
-  int side = 0;
-  for (int iteration = 0; iteration < 200 && hi - lo > 1e-12 * (1.0 + hi); ++iteration) {
-    const double u = (lo * r_hi - hi * r_lo) / (r_hi - r_lo);
-    const double r = residual(u);
-    // Self-consistent to 1e-13 of the force: done, without waiting for the far end of the bracket to close.
-    if (std::abs(r) <= 1e-13 * take_up.force(u)) {
-      lo = hi = u;
-      break;
-    }
-    if (r > 0.0) {
-      lo = u;
-      r_lo = r;
-      if (side == +1) r_hi *= 0.5;  // Illinois: halve the stale end so the bracket closes from both sides
-      side = +1;
-    } else {
-      hi = u;
-      r_hi = r;
-      if (side == -1) r_lo *= 0.5;
-      side = -1;
-    }
-  }
-  const double u = 0.5 * (lo + hi);
+  // Self-consistent to 1e-13 of the force: done, without waiting for the far end of the bracket to close.
+  const double u = illinois_root(
+      residual, {lo, r_lo, hi, r_hi}, [](double a, double b) { return b - a <= 1e-12 * (1.0 + b); },
+      [&](double x, double r) { return std::abs(r) <= 1e-13 * take_up.force(x); });
   return {take_up.force(u), k * u};
+}
+
+// A shaped strap in series with the paper's law (0 < s < 1, validated): the stretch is no power of one variable, so the
+// self-consistent root of residual(F) = f(L - stretch(F)) - F, decreasing in F, is bracketed on [f(L - stretch(f(L))),
+// f(L)] and solved in F by the Illinois method.
+template <class ForceAtLength>
+StretchedForce solve_mixed_mount_stretch(const ForceAtLength& force_at_length, double path_length,
+                                         const MountStiffness& stiffness, StretchMode mode) {
+  auto force_with_stretch = [&](double stretch) {
+    return force_at_length(path_length > stretch ? path_length - stretch : 0.0);
+  };
+  const double unstretched = force_at_length(path_length);
+  const double one_shot_stretch = total_mount_stretch(unstretched, stiffness);
+  if (mode == StretchMode::kOneShot) return {force_with_stretch(one_shot_stretch), one_shot_stretch};
+  auto residual = [&](double f) { return force_with_stretch(total_mount_stretch(f, stiffness)) - f; };
+  double hi = unstretched, r_hi = residual(hi);
+  if (r_hi >= 0.0) return {hi, total_mount_stretch(hi, stiffness)};  // the stretch costs no force
+  double lo = force_with_stretch(one_shot_stretch),
+         r_lo = residual(lo);  // the pull at the most stretch: below the root
+  if (r_lo <= 0.0) return {lo, total_mount_stretch(lo, stiffness)};
+  const double f = illinois_root(
+      residual, {lo, r_lo, hi, r_hi}, [](double a, double b) { return b - a <= 1e-13 * b; },
+      [](double x, double r) { return std::abs(r) <= 1e-13 * x; });
+  return {f, total_mount_stretch(f, stiffness)};
 }
 
 }  // namespace softwrist::physics

@@ -192,7 +192,8 @@ void read_stretch(Reader stretch, DeviceDescription& device) {
   device.mount_stiffness = {.forearm = units::n_per_cm2_to_n_per_m2(stretch.number("K1_n_per_cm2", 0.0)),
                             .hand = units::n_per_cm2_to_n_per_m2(stretch.number("K2_n_per_cm2", 0.0)),
                             .exponent = stretch.number("exponent", 2.0),
-                            .preload = stretch.number("preload_n", 0.0)};
+                            .preload = stretch.number("preload_n", 0.0),
+                            .shaped_share = stretch.number("shaped_share", 1.0)};
   try {
     if (device.stretch_mode != physics::StretchMode::kNone) physics::validate(device.mount_stiffness);
     physics::validate_shape(device.mount_stiffness);  // whatever the mode: it is written back as read
@@ -359,6 +360,7 @@ std::string device_to_json(const DeviceDescription& device) {
   if (!device.mount_stiffness.is_papers_law()) {
     stretch["exponent"] = device.mount_stiffness.exponent;
     stretch["preload_n"] = device.mount_stiffness.preload;
+    if (device.mount_stiffness.shaped_share != 1.0) stretch["shaped_share"] = device.mount_stiffness.shaped_share;
   }
   json root = {
       {"format", kFormat},

@@ -837,6 +837,27 @@ TEST_F(DiagnosisTest, SecondOrderRegulatorIsRegulatorLag) {
   EXPECT_NEAR(param(f, "time_constant_s"), 0.1, 0.02);
 }
 
+// A strap in series with the mounts of the nominal's law (physics::MountStiffness::shaped_share): a linear band
+// pre-tensioned to 6 N whose compliance at F_r equals the mounts' own, so that the law is neither the paper's square
+// root nor one power of the pull. The whole catalogue names mount_stretch and finds the band's share and shape, an
+// extension kept because it lowers the held-out error by more than one standard error.
+TEST_F(DiagnosisTest, AStrapInSeriesWithThePapersMountsIsMountStretch) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  sim::DeviceDescription real = paper_device();
+  ASSERT_NE(real.stretch_mode, physics::StretchMode::kNone);
+  real.mount_stiffness.forearm /= 4.0;  // twice the compliance at F_r, half of it the band's
+  real.mount_stiffness.hand /= 4.0;
+  real.mount_stiffness.exponent = 1.0;
+  real.mount_stiffness.preload = 6.0;
+  real.mount_stiffness.shaped_share = 0.5;
+  const Diagnosis d = run({.device = real}, paper_device());
+  ASSERT_EQ(d.verdict, "mount_stretch") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kMountStretch);
+  EXPECT_TRUE(f.extended);
+  EXPECT_NEAR(param(f, "shaped_share"), 0.5, 0.2);
+  EXPECT_NEAR(param(f, "exponent"), 1.0, 0.5);
+}
+
 // A relaxed wrist that stiffens towards its limits (physics/relaxed_wrist.h, Riener & Edrich's double exponential)
 // holds each muscle's range of motion back and bends the trajectories near the limits. The whole catalogue names it
 // passive_wrist and recovers the stiffening, not a stiffer linear wrist.

@@ -130,6 +130,72 @@ TEST(SolveMountStretch, SelfConsistentForAnyShapeSatisfiesBothLaws) {
             solve_mount_stretch(force_at_length, at, kPaperStiffness, StretchMode::kSelfConsistent).force);
 }
 
+// A linear band with a preload in series with mounts that keep the paper's law (MountStiffness::shaped_share): with
+// a linear force law the self-consistent pull above the preload solves F = k (L - L_slack - c_q sqrt(F) - b (F - F_p)),
+// c_q = (1 - s) c the paper's part's compliance and b = s c sqrt(F_r) / F_r the band's [m/N]; a quadratic in
+// u = sqrt(F), (1 + k b) u^2 + k c_q u - k (L - L_slack + b F_p) = 0.
+TEST(SolveMountStretch, ABandInSeriesWithThePapersMountsMatchesHandSolution) {
+  const double k = 2000.0, slack_length = 0.25, length = 0.31, preload = 8.0, share = 0.4;
+  const auto force_at_length = [&](double l) { return std::max(0.0, k * (l - slack_length)); };
+  const MountStiffness mixed{.forearm = kPaperStiffness.forearm,
+                             .hand = kPaperStiffness.hand,
+                             .exponent = 1.0,
+                             .preload = preload,
+                             .shaped_share = share};
+  const double c = mount_compliance(kPaperStiffness), c_q = (1.0 - share) * c;
+  const double b = share * c * std::sqrt(kMountReferenceForce) / kMountReferenceForce;
+  const double a2 = 1.0 + k * b, a1 = k * c_q, a0 = -k * (length - slack_length + b * preload);
+  const double u = (-a1 + std::sqrt(a1 * a1 - 4.0 * a2 * a0)) / (2.0 * a2);
+  ASSERT_GT(u * u, preload);
+  const auto solved = solve_mount_stretch(force_at_length, length, mixed, StretchMode::kSelfConsistent);
+  EXPECT_NEAR(solved.force, u * u, 1e-8);
+  EXPECT_NEAR(solved.mount_stretch, c_q * u + b * (u * u - preload), 1e-12);
+  // Below the preload only the paper's part gives: F = k (L - L_slack - c_q sqrt(F)).
+  const double short_length = slack_length + 0.004;
+  const double v = (-k * c_q + std::sqrt(k * k * c_q * c_q + 4.0 * k * (short_length - slack_length))) / 2.0;
+  ASSERT_LT(v * v, preload);
+  EXPECT_NEAR(solve_mount_stretch(force_at_length, short_length, mixed, StretchMode::kSelfConsistent).force, v * v,
+              1e-9);
+}
+
+// The share's ends: s = 1 is the shaped law alone, s = 0 the paper's whatever the shape (and solved in closed form
+// there: is_papers_law); at F_r with no preload every share stretches as the paper's; between them, the fixed point
+// satisfies both laws for every shape.
+TEST(SolveMountStretch, TheShapedShareRunsFromThePapersLawToTheShapedLaw) {
+  const auto force_at_length = [](double l) {
+    return std::max(0.0, 3000.0 * (l - 0.2) - 40.0 * (l - 0.2) * (l - 0.2));
+  };
+  MountStiffness shape{.forearm = kPaperStiffness.forearm, .hand = kPaperStiffness.hand, .exponent = 1.3};
+  EXPECT_FALSE(shape.is_papers_law());
+  for (const double share : {0.0, 0.25, 0.5, 0.9, 1.0}) {
+    shape.shaped_share = share;
+    EXPECT_EQ(shape.is_papers_law(), share == 0.0);
+    EXPECT_NEAR(total_mount_stretch(kMountReferenceForce, shape),
+                total_mount_stretch(kMountReferenceForce, kPaperStiffness), 1e-15);
+    for (const double preload : {0.0, 6.0}) {
+      shape.preload = preload;
+      for (double length = 0.2; length < 0.4; length += 0.02) {
+        const auto s = solve_mount_stretch(force_at_length, length, shape, StretchMode::kSelfConsistent);
+        EXPECT_NEAR(s.force, force_at_length(length - s.mount_stretch), 1e-9 * (1.0 + s.force)) << share;
+        EXPECT_NEAR(s.mount_stretch, total_mount_stretch(s.force, shape), 1e-12) << share;
+        const auto once = solve_mount_stretch(force_at_length, length, shape, StretchMode::kOneShot);
+        EXPECT_NEAR(once.mount_stretch, total_mount_stretch(force_at_length(length), shape), 1e-15);
+        EXPECT_LE(once.force, s.force + 1e-9) << share << " " << length;
+        const MountStiffness papers = kPaperStiffness, alone{.forearm = shape.forearm,
+                                                             .hand = shape.hand,
+                                                             .exponent = shape.exponent,
+                                                             .preload = preload};
+        const auto end =
+            solve_mount_stretch(force_at_length, length, share == 0.0 ? papers : alone, StretchMode::kSelfConsistent);
+        if (share == 0.0 || share == 1.0) {
+          EXPECT_NEAR(s.force, end.force, 1e-9 * (1.0 + s.force)) << share;
+        }
+      }
+    }
+    shape.preload = 0.0;
+  }
+}
+
 TEST(MountStretch, RejectsAnExponentOrPreloadOutOfRange) {
   EXPECT_THROW(mount_stretch(10.0, 1e5, 0.0), InvalidParameter);
   EXPECT_THROW(mount_stretch(10.0, 1e5, 9.0), InvalidParameter);
@@ -140,6 +206,14 @@ TEST(MountStretch, RejectsAnExponentOrPreloadOutOfRange) {
     ADD_FAILURE() << "no error";
   } catch (const InvalidParameter& e) {
     EXPECT_NE(std::string(e.what()).find("mount law exponent n"), std::string::npos) << e.what();
+  }
+  for (const double share : {-0.1, 1.5, std::nan("")}) {
+    try {
+      validate(MountStiffness{.forearm = 1e5, .hand = 1e6, .exponent = 1.0, .shaped_share = share});
+      ADD_FAILURE() << "no error for share " << share;
+    } catch (const InvalidParameter& e) {
+      EXPECT_NE(std::string(e.what()).find("shaped share"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -31,6 +31,7 @@ void expect_same(const FpamConfig& a, const FpamConfig& b) {
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.hand, b.law.mount_stiffness.hand);
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.exponent, b.law.mount_stiffness.exponent);
     EXPECT_DOUBLE_EQ(a.law.mount_stiffness.preload, b.law.mount_stiffness.preload);
+    EXPECT_DOUBLE_EQ(a.law.mount_stiffness.shaped_share, b.law.mount_stiffness.shaped_share);
   }
   EXPECT_DOUBLE_EQ(a.max_pressure_kpa, b.max_pressure_kpa);
   EXPECT_DOUBLE_EQ(a.regulator.time_constant, b.regulator.time_constant);
@@ -68,12 +69,14 @@ TEST(FpamConfig, WrittenTextReadsBackToItself) {
   FpamConfig banded{.law = rig};  // mounts whose take-up is not quadratic (physics/mount_stretch.h)
   banded.law.mount_stiffness.exponent = 1.25;
   banded.law.mount_stiffness.preload = 6.5;
+  FpamConfig strapped = banded;  // a band in series with mounts of the paper's law
+  strapped.law.mount_stiffness.shaped_share = 0.35;
   FpamConfig planar{.law = rig};
   planar.planar = FpamConfig::PlanarPath{rig.placement, rig.wrist_radius, rig.wrap_surface};
   FpamConfig planar_ellipse = planar;
   planar_ellipse.planar->surface = {.x = 0.004, .y = -0.002, .aspect = 1.4};
   for (const FpamConfig& written :
-       {table, second_order, constant, hysteretic, frictional, curved, banded, planar, planar_ellipse}) {
+       {table, second_order, constant, hysteretic, frictional, curved, banded, strapped, planar, planar_ellipse}) {
     std::string error;
     const auto back = read(written.ToText(), &error);
     ASSERT_TRUE(back) << written.ToText() << ": " << error;

@@ -93,6 +93,11 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_DOUBLE_EQ(parse_device(banded_text, "x.json").mount_stiffness.exponent, 1.0);
   EXPECT_DOUBLE_EQ(parse_device(banded_text, "x.json").mount_stiffness.preload, 8.0);
   EXPECT_EQ(device_to_json(parse_device(banded_text, "x.json")), banded_text);
+  EXPECT_EQ(banded_text.find("shaped_share"), std::string::npos) << "the shaped law alone, the default";
+  banded.mount_stiffness.shaped_share = 0.4;  // a band in series with mounts of the paper's law
+  const std::string strapped_text = device_to_json(banded);
+  EXPECT_DOUBLE_EQ(parse_device(strapped_text, "x.json").mount_stiffness.shaped_share, 0.4);
+  EXPECT_EQ(device_to_json(parse_device(strapped_text, "x.json")), strapped_text);
   EXPECT_EQ(device_to_json(paper_device()).find("preload_n"), std::string::npos);
   // A file without a venting time constant keeps none, and is written without one.
   const std::string symmetric = device_to_json(paper_device());
