@@ -17,8 +17,9 @@ double limit_stiffening_torque(const LimitStiffening& stiffening, double positiv
 }
 
 double relaxed_wrist_torque(double stiffness, const LimitStiffening& stiffening, double positive_limit,
-                            double negative_limit, double angle) {
-  return -stiffness * angle + limit_stiffening_torque(stiffening, positive_limit, negative_limit, angle);
+                            double negative_limit, double angle, double asymmetry) {
+  return -stiffness * angle + stiffness_asymmetry_torque(stiffness, asymmetry, angle) +
+         limit_stiffening_torque(stiffening, positive_limit, negative_limit, angle);
 }
 
 }  // namespace softwrist::physics

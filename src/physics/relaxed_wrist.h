@@ -22,8 +22,17 @@ struct LimitStiffening {
 double limit_stiffening_torque(const LimitStiffening& stiffening, double positive_limit, double negative_limit,
                                double angle);
 
-// The relaxed wrist's whole passive torque [N m] about one axis: -stiffness angle plus the stiffening.
+// A relaxed wrist stiffer towards one side than the other (beyond the paper's linear wrist: passive wrist moments
+// differ between flexion and extension and between ulnar and radial deviation, Formica et al. 2012): the stiffness
+// k (1 + a) towards the positive direction (flexion, ulnar) and k (1 - a) towards the other. The torque beyond
+// -k angle, -k a |angle| [N m]; |a| at most kMaxStiffnessAsymmetry (a side of at least a tenth of k).
+inline constexpr double kMaxStiffnessAsymmetry = 0.9;
+inline double stiffness_asymmetry_torque(double stiffness, double asymmetry, double angle) {
+  return -stiffness * asymmetry * (angle < 0.0 ? -angle : angle);
+}
+
+// The relaxed wrist's whole passive torque [N m] about one axis: -stiffness angle, its asymmetry and the stiffening.
 double relaxed_wrist_torque(double stiffness, const LimitStiffening& stiffening, double positive_limit,
-                            double negative_limit, double angle);
+                            double negative_limit, double angle, double asymmetry = 0.0);
 
 }  // namespace softwrist::physics

@@ -12,7 +12,8 @@ double WristModel::limit(WristAxis axis, double direction) const {
 }
 
 double WristModel::passive(WristAxis axis, double angle) const {
-  return relaxed_wrist_torque(stiffness(axis), limit_stiffening, limit(axis, 1.0), limit(axis, -1.0), angle);
+  return relaxed_wrist_torque(stiffness(axis), limit_stiffening, limit(axis, 1.0), limit(axis, -1.0), angle,
+                              asymmetry(axis));
 }
 
 AxisTorques axis_torques(const WristModel& wrist, WristAxis axis, double angle, double agonist_pressure,

@@ -13,6 +13,8 @@ struct WristModel {
   WristMuscles muscles;
   double stiffness_fe = 0.0;  // relaxed wrist [N m/rad]
   double stiffness_ur = 0.0;
+  double asymmetry_fe = 0.0;  // the relaxed wrist's stiffness asymmetry a (relaxed_wrist.h)
+  double asymmetry_ur = 0.0;
   LimitStiffening limit_stiffening;  // the relaxed wrist stiffening towards the limits below (both axes)
   // m g c [N m]: the hand's weight about the ulnar/radial axis, pulling towards ulnar deviation with m g c cos(ur)
   // (the model's forearm lies with flexion/extension in the horizontal plane, so ulnar deviation lowers the hand);
@@ -22,6 +24,7 @@ struct WristModel {
   double flexion_limit = 0.0, extension_limit = 0.0, ulnar_limit = 0.0, radial_limit = 0.0;
 
   double stiffness(WristAxis axis) const { return axis == WristAxis::kFlexionExtension ? stiffness_fe : stiffness_ur; }
+  double asymmetry(WristAxis axis) const { return axis == WristAxis::kFlexionExtension ? asymmetry_fe : asymmetry_ur; }
   // The joint stop in direction +1 (flexion, ulnar) or -1 (extension, radial), as a positive angle [rad].
   double limit(WristAxis axis, double direction) const;
   // The relaxed wrist's torque at `angle` [rad], positive towards flexion / ulnar deviation (relaxed_wrist.h).

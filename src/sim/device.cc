@@ -241,6 +241,12 @@ void read_wrist(Reader w, PassiveWrist& p) {
   p.extension_limit = units::deg_to_rad(w.positive("extension_limit_deg", units::rad_to_deg(p.extension_limit)));
   p.ulnar_limit = units::deg_to_rad(w.positive("ulnar_limit_deg", units::rad_to_deg(p.ulnar_limit)));
   p.radial_limit = units::deg_to_rad(w.positive("radial_limit_deg", units::rad_to_deg(p.radial_limit)));
+  for (auto [key, value] : {std::pair{"stiffness_asymmetry_fe", &p.stiffness_asymmetry_fe},
+                            {"stiffness_asymmetry_ur", &p.stiffness_asymmetry_ur}}) {
+    *value = w.number(key, *value);
+    if (!(std::abs(*value) <= physics::kMaxStiffnessAsymmetry))
+      w.fail(key, fmt::format("must lie in [-{0}, {0}], got {1}", physics::kMaxStiffnessAsymmetry, *value));
+  }
   p.limit_stiffening.torque = w.number("limit_stiffening_nm", p.limit_stiffening.torque);
   // Bounds that keep the 1 ms explicit step of WristSim stable (sqrt((A/s)/I) dt < 0.3 for a hand of 0.003 kg m^2)
   // and cover a relaxed wrist's passive torque at its limits (a few N m).
@@ -389,6 +395,10 @@ std::string device_to_json(const DeviceDescription& device) {
     root["fpam"]["hysteresis_length_mm"] = units::m_to_mm(device.hysteresis.transition_length);
     root["fpam"]["hysteresis_friction_n"] = device.hysteresis.friction_force;
     root["fpam"]["hysteresis_pressure_friction"] = device.hysteresis.pressure_friction;
+  }
+  if (w.stiffness_asymmetry_fe != 0.0 || w.stiffness_asymmetry_ur != 0.0) {  // likewise
+    root["wrist"]["stiffness_asymmetry_fe"] = w.stiffness_asymmetry_fe;
+    root["wrist"]["stiffness_asymmetry_ur"] = w.stiffness_asymmetry_ur;
   }
   if (w.limit_stiffening.torque > 0.0) {  // only where the wrist is not the paper's linear one
     root["wrist"]["limit_stiffening_nm"] = w.limit_stiffening.torque;

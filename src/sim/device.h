@@ -47,6 +47,10 @@ struct PassiveWrist {
   double extension_limit = units::deg_to_rad(56.0);
   double ulnar_limit = units::deg_to_rad(39.1);
   double radial_limit = units::deg_to_rad(23.2);
+  // Stiffer towards one side than the other, k (1 + a) towards flexion / ulnar and k (1 - a) towards extension /
+  // radial (physics/relaxed_wrist.h); 0 by default, the paper's wrist being linear.
+  double stiffness_asymmetry_fe = 0.0;
+  double stiffness_asymmetry_ur = 0.0;
   // Stiffening towards those limits (physics/relaxed_wrist.h); none by default, the paper's wrist being linear.
   physics::LimitStiffening limit_stiffening;
 };

@@ -158,7 +158,12 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
                         R"(contype="0" conaffinity="0"/>)"
                         "\n"
                       : "";
-  // MuJoCo's joint stiffness is linear: the stiffening towards the limits is WristSim's, read from here.
+  // MuJoCo's joint stiffness is linear and symmetric: the asymmetry and the stiffening towards the limits are
+  // WristSim's, read from here.
+  if (w.stiffness_asymmetry_fe != 0.0 || w.stiffness_asymmetry_ur != 0.0) {
+    custom += fmt::format("    <numeric name=\"{}\" size=\"2\" data=\"{:.10g} {:.10g}\"/>\n",
+                          kStiffnessAsymmetryNumeric, w.stiffness_asymmetry_fe, w.stiffness_asymmetry_ur);
+  }
   if (w.limit_stiffening.torque > 0.0) {
     custom += fmt::format("    <numeric name=\"{}\" size=\"2\" data=\"{:.10g} {:.10g}\"/>\n", kLimitStiffeningNumeric,
                           w.limit_stiffening.torque, w.limit_stiffening.angle_scale);

@@ -46,6 +46,9 @@ struct ModelOptions {
 // The relaxed wrist's stiffening towards its limits (PassiveWrist::limit_stiffening), when it has any: a custom
 // <numeric> "A s" ([N m], [rad]) that WristSim applies about both joints, towards their ranges' ends.
 inline constexpr const char* kLimitStiffeningNumeric = "softwrist.limit_stiffening";
+// Its stiffness asymmetry (PassiveWrist::stiffness_asymmetry_fe, _ur), when it has any: a custom <numeric> "a_fe a_ur"
+// that WristSim applies as -k a |angle| about each joint, k the joint's stiffness.
+inline constexpr const char* kStiffnessAsymmetryNumeric = "softwrist.stiffness_asymmetry";
 
 // A muscle whose wrist surface is not a circle (physics::WrapSurface): MuJoCo wraps tendons around spheres and
 // cylinders only, so its wrap cylinder stands for the surface's equivalent circle (torque_geometry.h: tangent to the

@@ -1,6 +1,7 @@
 #include "sim/wrist_sim.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -70,6 +71,7 @@ WristSim::WristSim(const Model& model)
     qpos_address_[j] = model->jnt_qposadr[joint];
     dof_address_[j] = model->jnt_dofadr[joint];
     joint_limits_[j] = {model->jnt_range[2 * joint + 1], -model->jnt_range[2 * joint]};
+    joint_stiffness_[j] = model->jnt_stiffness[joint];
   }
   for (std::size_t i = 0; i < kMuscleNames.size(); ++i) {
     const std::string rate = kMuscleNames[i] + std::string(plugin::FpamConfig::kPressureRateSuffix);
@@ -87,6 +89,15 @@ WristSim::WristSim(const Model& model)
       throw std::runtime_error(std::string("wrist model: custom numeric '") + kLimitStiffeningNumeric +
                                "' needs a torque >= 0 and an e-folding angle > 0");
     }
+  }
+  if (const int asymmetry = mj_name2id(model.get(), mjOBJ_NUMERIC, kStiffnessAsymmetryNumeric); asymmetry >= 0) {
+    const mjtNum* values = model->numeric_data + model->numeric_adr[asymmetry];
+    if (model->numeric_size[asymmetry] != 2 || !(std::abs(values[0]) <= physics::kMaxStiffnessAsymmetry) ||
+        !(std::abs(values[1]) <= physics::kMaxStiffnessAsymmetry)) {
+      throw std::runtime_error(std::string("wrist model: custom numeric '") + kStiffnessAsymmetryNumeric +
+                               "' must hold 2 values (flexion/extension, ulnar/radial asymmetry), each within 0.9");
+    }
+    stiffness_asymmetry_ = {values[0], values[1]};
   }
   // Four fPAMs and after them four companions for each of: the fabric's hysteresis, a second-order regulator
   // (sim/model_builder.cc).
@@ -139,11 +150,13 @@ void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa)
 }
 
 void WristSim::apply_limit_stiffening() {
-  if (limit_stiffening_.torque == 0.0) return;
+  if (limit_stiffening_.torque == 0.0 && stiffness_asymmetry_[0] == 0.0 && stiffness_asymmetry_[1] == 0.0) return;
   for (int j = 0; j < 2; ++j) {
     // The joints' axes are set so that flexion and ulnar deviation are positive (model_builder.h).
-    data_->qfrc_applied[dof_address_[j]] = physics::limit_stiffening_torque(
-        limit_stiffening_, joint_limits_[j][0], joint_limits_[j][1], data_->qpos[qpos_address_[j]]);
+    const double angle = data_->qpos[qpos_address_[j]];
+    data_->qfrc_applied[dof_address_[j]] =
+        physics::stiffness_asymmetry_torque(joint_stiffness_[j], stiffness_asymmetry_[j], angle) +
+        physics::limit_stiffening_torque(limit_stiffening_, joint_limits_[j][0], joint_limits_[j][1], angle);
   }
 }
 

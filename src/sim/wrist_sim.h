@@ -59,8 +59,8 @@ class WristSim {
 
  private:
   void hold(double fe, double ur);
-  // Puts the relaxed wrist's stiffening towards the joint limits (model_builder.h) into qfrc_applied, at the state
-  // the next step starts from.
+  // Puts the relaxed wrist's torque beyond MuJoCo's linear joint stiffness, its asymmetry and its stiffening towards
+  // the joint limits (model_builder.h), into qfrc_applied, at the state the next step starts from.
   void apply_limit_stiffening();
   void step();
   // Each non-circular wrist surface's equivalent circle at the joints' present angles (model_builder.h).
@@ -74,6 +74,8 @@ class WristSim {
   std::array<int, 2> dof_address_{};
   std::array<int, 4> pressure_rate_actuator_{};          // a second-order regulator's companions (act ids), or -1
   physics::LimitStiffening limit_stiffening_;            // none unless the model carries kLimitStiffeningNumeric
+  std::array<double, 2> stiffness_asymmetry_{};          // per joint; 0 unless it carries kStiffnessAsymmetryNumeric
+  std::array<double, 2> joint_stiffness_{};              // per joint [N m/rad]
   std::array<std::array<double, 2>, 2> joint_limits_{};  // per joint: positive, negative limit [rad]
 };
 

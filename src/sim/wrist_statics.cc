@@ -8,6 +8,8 @@ physics::WristModel wrist_model(const DeviceDescription& device, double gravity)
                       .ulnar_radial = {.agonist = device.muscle(kUlnar), .antagonist = device.muscle(kRadial)}},
           .stiffness_fe = device.wrist.stiffness_fe,
           .stiffness_ur = device.wrist.stiffness_ur,
+          .asymmetry_fe = device.wrist.stiffness_asymmetry_fe,
+          .asymmetry_ur = device.wrist.stiffness_asymmetry_ur,
           .limit_stiffening = device.wrist.limit_stiffening,
           .hand_weight_moment = device.hand.mass * gravity * device.hand.com_distance,
           .flexion_limit = device.wrist.flexion_limit,

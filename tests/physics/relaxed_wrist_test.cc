@@ -23,6 +23,20 @@ TEST(RelaxedWrist, WithoutStiffeningItIsTheLinearWrist) {
   }
 }
 
+// A wrist stiffer towards one side: k (1 + a) towards flexion, k (1 - a) towards extension, continuous at neutral;
+// a = 0 the linear wrist.
+TEST(RelaxedWrist, AnAsymmetricWristIsStifferTowardsOneSide) {
+  const double k = 1.2, a = 0.4;
+  for (double angle : {-0.9, -0.3, 0.0, 0.4, 1.3}) {
+    const double stiffness_here = angle > 0.0 ? k * (1.0 + a) : k * (1.0 - a);
+    EXPECT_NEAR(relaxed_wrist_torque(k, {}, kFlexion, kExtension, angle, a), -stiffness_here * angle, 1e-15);
+    EXPECT_EQ(relaxed_wrist_torque(k, {}, kFlexion, kExtension, angle, 0.0), -k * angle);
+  }
+  EXPECT_NEAR(relaxed_wrist_torque(k, {}, kFlexion, kExtension, 0.5, a) /
+                  relaxed_wrist_torque(k, {}, kFlexion, kExtension, -0.5, a),
+              -(1.0 + a) / (1.0 - a), 1e-12);
+}
+
 // Zero at neutral; at each limit it resists with the stated torque (within the offset that zeroes it at neutral,
 // 0.1 %); it grows by e
 // every e-folding angle near a limit; it never pushes a wrist further towards a limit.

@@ -46,9 +46,12 @@ TEST(PlacementFile, RoundTrips) {
   d.regulator.vent_time_constant = 0.15;
   d.regulator.second_order_time = 0.03;
   d.wrist.limit_stiffening = {.torque = 1.5, .angle_scale = units::deg_to_rad(10.0)};
+  d.wrist.stiffness_asymmetry_fe = -0.3;
   const std::string text = device_to_json(d);
   EXPECT_EQ(device_to_json(parse_device(text, "x.json")), text);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").wrist.limit_stiffening.torque, 1.5);
+  EXPECT_DOUBLE_EQ(parse_device(text, "x.json").wrist.stiffness_asymmetry_fe, -0.3);
+  EXPECT_EQ(device_to_json(paper_device()).find("stiffness_asymmetry"), std::string::npos);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.vent_time_constant, 0.15);
   EXPECT_DOUBLE_EQ(parse_device(text, "x.json").regulator.second_order_time, 0.03);
   // A fabric other than the paper's (a J-shaped one) is written, read back, and changes the text the replays' caches
@@ -159,6 +162,8 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_nm"] = 50; }), "wrist.limit_stiffening_nm: must lie in [0, 20]"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_scale_deg"] = 1; }), "wrist.limit_stiffening_scale_deg"},
+      {with([](auto& j) { j["wrist"]["stiffness_asymmetry_ur"] = 1.2; }),
+       "wrist.stiffness_asymmetry_ur: must lie in [-0.9, 0.9]"},
       {with([](auto& j) { j["format"] = "other/2"; }), "format: 'other/2'"},
   };
   for (const auto& [text, expected] : cases) {

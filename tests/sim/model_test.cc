@@ -305,6 +305,38 @@ TEST(ModelFreeMotion, LimitStiffeningHoldsTheWristBackAsTheStaticsSay) {
   EXPECT_GT(largest, deg_to_rad(2.0));
 }
 
+// A relaxed wrist stiffer towards extension than flexion, or towards ulnar than radial deviation (PassiveWrist's
+// asymmetry, applied by WristSim about MuJoCo's symmetric joint stiffness), holds each muscle's settled angle back, or
+// lets it further, by as much in MuJoCo as in the statics of the same law. Each muscle with the asymmetry of its own
+// axis only: a muscle's pull turns the hand a little about the other axis too (the 3D paths), which a stiffness
+// asymmetric there would resist differently, and the per-axis statics leave that coupling out.
+TEST(ModelFreeMotion, AnAsymmetricWristSettlesAsTheStaticsSay) {
+  const auto settle = [](const DeviceDescription& device, MuscleIndex muscle) {
+    const Model model = Model::FromXml(build_model_xml(device, {.gravity = 0.0}), plugins());
+    WristSim wrist(model);
+    std::array<double, 4> command{};
+    command[static_cast<std::size_t>(muscle)] = 137.0;
+    wrist.command_pressures_kpa(command);
+    wrist.run(6.0);
+    return physics::direction_of(muscle) * wrist.angle(physics::axis_of(muscle));
+  };
+  double largest = 0.0;
+  for (int m = 0; m < 4; ++m) {
+    const auto muscle = static_cast<MuscleIndex>(m);
+    DeviceDescription asymmetric = paper_device();
+    (physics::axis_of(muscle) == physics::WristAxis::kFlexionExtension ? asymmetric.wrist.stiffness_asymmetry_fe
+                                                                       : asymmetric.wrist.stiffness_asymmetry_ur) =
+        m % 2 == 0 ? -0.5 : 0.4;
+    const double kpa = units::kpa_to_pa(137.0);
+    const double statics = std::abs(settled_angle(paper_device(), muscle, kpa, 0.0)) -
+                           std::abs(settled_angle(asymmetric, muscle, kpa, 0.0));
+    const double mujoco = settle(paper_device(), muscle) - settle(asymmetric, muscle);
+    EXPECT_NEAR(mujoco, statics, deg_to_rad(0.5)) << kMuscleNames[static_cast<std::size_t>(m)];
+    largest = std::max(largest, std::abs(statics));
+  }
+  EXPECT_GT(largest, deg_to_rad(2.0));
+}
+
 // The fabric's hysteresis as a state of the plugin's force (physics/fpam_hysteresis.h): the flexor at 137 kPa is moved
 // to the same angle from either side at a prescribed speed; MuJoCo's branch state is Dahl's closed form of the tendon's
 // length change, s = +-(1 - exp(-|dL| / l_h)), and its force the static law's (the same model without hysteresis, the
