@@ -108,8 +108,6 @@ struct StretchedForce {
   double mount_stretch = 0.0;  // dx_1 + dx_2 [m]
 };
 
-// The force of a muscle whose mounts stretch. `force_at_length(L)` is the fPAM force law at path length L
-// (non-decreasing in L); `path_length` the mount-to-mount path length of the unstretched placement.
 // A bracket of the root of a decreasing residual: r_lo > 0 at lo, r_hi < 0 at hi.
 struct RootBracket {
   double lo, r_lo, hi, r_hi;
@@ -144,6 +142,8 @@ template <class ForceAtLength>
 StretchedForce solve_mixed_mount_stretch(const ForceAtLength& force_at_length, double path_length,
                                          const MountStiffness& stiffness, StretchMode mode);
 
+// The force of a muscle whose mounts stretch. `force_at_length(L)` is the fPAM force law at path length L
+// (non-decreasing in L); `path_length` the mount-to-mount path length of the unstretched placement.
 template <class ForceAtLength>
 StretchedForce solve_mount_stretch(const ForceAtLength& force_at_length, double path_length,
                                    const MountStiffness& stiffness, StretchMode mode) {
@@ -197,10 +197,10 @@ StretchedForce solve_mixed_mount_stretch(const ForceAtLength& force_at_length, d
   const double one_shot_stretch = total_mount_stretch(unstretched, stiffness);
   if (mode == StretchMode::kOneShot) return {force_with_stretch(one_shot_stretch), one_shot_stretch};
   auto residual = [&](double f) { return force_with_stretch(total_mount_stretch(f, stiffness)) - f; };
-  double hi = unstretched, r_hi = residual(hi);
+  const double hi = unstretched, r_hi = residual(hi);
   if (r_hi >= 0.0) return {hi, total_mount_stretch(hi, stiffness)};  // the stretch costs no force
-  double lo = force_with_stretch(one_shot_stretch),
-         r_lo = residual(lo);  // the pull at the most stretch: below the root
+  const double lo = force_with_stretch(one_shot_stretch);            // the pull at the most stretch: below the root
+  const double r_lo = residual(lo);
   if (r_lo <= 0.0) return {lo, total_mount_stretch(lo, stiffness)};
   const double f = illinois_root(
       residual, {lo, r_lo, hi, r_hi}, [](double a, double b) { return b - a <= 1e-13 * b; },

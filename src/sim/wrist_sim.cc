@@ -149,7 +149,7 @@ void WristSim::command_pressures_kpa(const std::array<double, 4>& pressures_kpa)
   for (int i = 0; i < 4; ++i) data_->ctrl[i] = pressures_kpa[static_cast<std::size_t>(i)];
 }
 
-void WristSim::apply_limit_stiffening() {
+void WristSim::apply_relaxed_wrist_beyond_linear() {
   if (limit_stiffening_.torque == 0.0 && stiffness_asymmetry_[0] == 0.0 && stiffness_asymmetry_[1] == 0.0) return;
   for (int j = 0; j < 2; ++j) {
     // The joints' axes are set so that flexion and ulnar deviation are positive (model_builder.h).
@@ -163,7 +163,7 @@ void WristSim::apply_limit_stiffening() {
 // Explicit in the stiffening (evaluated at the step's start): stable while its stiffness near a limit, A/s, keeps
 // sqrt((A/s)/I) dt well below 1 (A = 5 N m, s = 8 deg, I = 0.0034 kg m^2: 0.07 at 1 ms).
 void WristSim::step() {
-  apply_limit_stiffening();
+  apply_relaxed_wrist_beyond_linear();
   place_wrap_surfaces();
   mj_step(model_.get(), data_.get());
   check_stable(data_.get());
@@ -201,7 +201,7 @@ void WristSim::set_regulated_pressures_kpa(const std::array<double, 4>& pressure
 void WristSim::set_pose(double fe, double ur, const std::array<double, 4>& pressures_kpa) {
   hold(fe, ur);
   set_regulated_pressures_kpa(pressures_kpa);
-  apply_limit_stiffening();
+  apply_relaxed_wrist_beyond_linear();
   forward();
 }
 

@@ -61,7 +61,7 @@ class WristSim {
   void hold(double fe, double ur);
   // Puts the relaxed wrist's torque beyond MuJoCo's linear joint stiffness, its asymmetry and its stiffening towards
   // the joint limits (model_builder.h), into qfrc_applied, at the state the next step starts from.
-  void apply_limit_stiffening();
+  void apply_relaxed_wrist_beyond_linear();
   void step();
   // Each non-circular wrist surface's equivalent circle at the joints' present angles (model_builder.h).
   void place_wrap_surfaces();

@@ -267,7 +267,7 @@ TEST_F(ReplayDeadTime, MeasuredPressuresThatAreTheModelsOwnGiveTheCommandsAngles
   EXPECT_EQ(measured.predict(from_measured.at(0), regulator_variant(true, 0.03), false), driven);
   EXPECT_EQ(measured.stats().trajectories, replays);
   ModelVariant stretched = nominal;
-  apply_effect(EffectId::kMountStretch, std::vector<double>{3.0, 2.0, 0.0}, stretched);  // K_s, the paper's law
+  apply_effect(EffectId::kMountStretch, std::vector<double>{3.0, 2.0, 0.0, 1.0}, stretched);  // K_s, the paper's law
   const std::vector<double> stiffer = measured.predict(from_measured.at(0), stretched, false);
   EXPECT_GT(std::abs(stiffer.back() - driven.back()), 0.1);  // [deg]
 }
