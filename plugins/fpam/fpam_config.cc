@@ -256,12 +256,10 @@ std::string FpamConfig::ToText() const {
   if (law.stretch_mode != physics::StretchMode::kNone) {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kForearmStiffness, law.mount_stiffness.forearm, kHandStiffness,
                         law.mount_stiffness.hand);
-    if (!law.mount_stiffness.is_papers_law()) {
-      text += fmt::format(" {}={:.10g} {}={:.10g}", kMountExponent, law.mount_stiffness.exponent, kMountPreload,
-                          law.mount_stiffness.preload);
-      if (law.mount_stiffness.shaped_share != 1.0)
-        text += fmt::format(" {}={:.10g}", kMountShapedShare, law.mount_stiffness.shaped_share);
-    }
+    const physics::MountStiffness& k = law.mount_stiffness;  // its shape as read, whatever the share
+    if (k.exponent != 2.0 || k.preload != 0.0)
+      text += fmt::format(" {}={:.10g} {}={:.10g}", kMountExponent, k.exponent, kMountPreload, k.preload);
+    if (k.shaped_share != 1.0) text += fmt::format(" {}={:.10g}", kMountShapedShare, k.shaped_share);
   }
   text +=
       fmt::format(" {}={:.10g} {}={:.10g}", kMaxPressureKpa, max_pressure_kpa, kTimeConstant, regulator.time_constant);

@@ -148,9 +148,17 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
     const double a = before.per_trial[t][u].first, b = after.per_trial[t][u].first;
     return std::abs(a - b) > 1e-12 * std::max(std::abs(a), std::abs(b));
   };
+  // Conditioned only where at least two units move: given that a single moved unit is drawn, every resample would
+  // hold it, and a change that fits one held angle would have an interval above zero on that one alone.
+  int units_moved = 0;
+  for (std::size_t t = 0; t < before.per_trial.size(); ++t) {
+    if (!problem.scored(t)) continue;
+    for (std::size_t u = 0; u < before.per_trial[t].size(); ++u) units_moved += moved(t, u) ? 1 : 0;
+  }
+  const bool conditioned = units_moved >= 2;
   std::vector<double> shrinks;
   for_each_resample(problem, resamples, seed, before, [&](const std::vector<std::vector<int>>& weights) {
-    bool holds_a_moved_unit = false;
+    bool holds_a_moved_unit = !conditioned;
     for (std::size_t t = 0; t < weights.size() && !holds_a_moved_unit; ++t) {
       if (!problem.scored(t)) continue;
       for (std::size_t u = 0; u < weights[t].size() && !holds_a_moved_unit; ++u)

@@ -70,7 +70,7 @@ inline constexpr double kMinMountExponent = 1.0;
 inline constexpr double kMaxMountExponent = 5.0;
 inline constexpr double kMaxMountPreload = 20.0;       // [N]
 void validate(const MountStiffness& stiffness);        // K1, K2 and the shape
-void validate_shape(const MountStiffness& stiffness);  // the exponent and the preload only
+void validate_shape(const MountStiffness& stiffness);  // the exponent, the preload and the share only
 
 // Eqn. fabric_stretching solved for one mount of stiffness K: dx = sqrt(F / |K|) [m]; with another `exponent` n and
 // `preload` F_p [N], the law of MountStiffness.

@@ -363,11 +363,13 @@ std::string device_to_json(const DeviceDescription& device) {
   json stretch = {{"mode", physics::to_string(device.stretch_mode)},
                   {"K1_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.forearm)},
                   {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}};
-  if (!device.mount_stiffness.is_papers_law()) {
-    stretch["exponent"] = device.mount_stiffness.exponent;
-    stretch["preload_n"] = device.mount_stiffness.preload;
-    if (device.mount_stiffness.shaped_share != 1.0) stretch["shaped_share"] = device.mount_stiffness.shaped_share;
+  // The shape as read (a share of 0 makes it the paper's law whatever the shape, but it is written back as read).
+  const physics::MountStiffness& k = device.mount_stiffness;
+  if (k.exponent != 2.0 || k.preload != 0.0) {
+    stretch["exponent"] = k.exponent;
+    stretch["preload_n"] = k.preload;
   }
+  if (k.shaped_share != 1.0) stretch["shaped_share"] = k.shaped_share;
   json root = {
       {"format", kFormat},
       {"muscles", muscles},

@@ -87,8 +87,8 @@ struct Session {
     mj_resetData(model, data);
     mj_forward(model, data);
   }
-  // Advances `duration` [s]. A softwrist model through WristSim (the relaxed wrist's stiffening towards its limits,
-  // wrist surfaces that are not circles); an unstable state is reset, as MuJoCo does on its own.
+  // Advances `duration` [s]. A softwrist model through WristSim (the relaxed wrist's stiffening towards its limits and
+  // its asymmetry, wrist surfaces that are not circles); an unstable state is reset, as MuJoCo does on its own.
   void advance(double duration) {
     if (wrist == nullptr) {
       const double end = data->time + duration;

@@ -149,6 +149,10 @@ TEST(BootstrapInterval, ResamplesHoldingNoUnitTheChangeMovesSayNothing) {
   EXPECT_GT(low, 0.0) << "interval " << low << " to " << high;
   const auto [worse_low, worse_high] = bootstrap_interval(problem, before, sums({20.0, 20.0, 5.0, 5.0}), 2000, 3);
   EXPECT_LT(worse_high, 0.0) << "interval " << worse_low << " to " << worse_high;
+  // One moved unit alone is not conditioned on (every resample would hold it): a quarter of the resamples leave it out
+  // and close 0.
+  const auto [one_low, one_high] = bootstrap_interval(problem, before, sums({1.0, 10.0, 5.0, 5.0}), 2000, 3);
+  EXPECT_EQ(one_low, 0.0) << "interval " << one_low << " to " << one_high;
   // A change that moves every unit: the moved-unit condition leaves every resample in.
   const auto [all_low, all_high] = bootstrap_interval(problem, before, sums({1.0, 1.0, 4.0, 4.0}), 2000, 3);
   EXPECT_GT(all_low, 0.0) << "interval " << all_low << " to " << all_high;

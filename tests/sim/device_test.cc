@@ -162,6 +162,7 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["wrist"]["damping_fe_nms_per_rad"] = -1; }), "wrist.damping_fe_nms_per_rad"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_nm"] = 50; }), "wrist.limit_stiffening_nm: must lie in [0, 20]"},
       {with([](auto& j) { j["wrist"]["limit_stiffening_scale_deg"] = 1; }), "wrist.limit_stiffening_scale_deg"},
+      {with([](auto& j) { j["stretch"]["shaped_share"] = 1.5; }), "must lie in [0, 1]"},
       {with([](auto& j) { j["wrist"]["stiffness_asymmetry_ur"] = 1.2; }),
        "wrist.stiffness_asymmetry_ur: must lie in [-0.9, 0.9]"},
       {with([](auto& j) { j["format"] = "other/2"; }), "format: 'other/2'"},

@@ -319,15 +319,16 @@ TEST(ModelFreeMotion, LimitStiffeningHoldsTheWristBackAsTheStaticsSay) {
 
 // A relaxed wrist stiffer towards extension than flexion, or towards ulnar than radial deviation (PassiveWrist's
 // asymmetry, applied by WristSim about MuJoCo's symmetric joint stiffness), holds each muscle's settled angle back, or
-// lets it further, by as much in MuJoCo as in the statics of the same law. Each muscle with the asymmetry of its own
-// axis only: a muscle's pull turns the hand a little about the other axis too (the 3D paths), which a stiffness
-// asymmetric there would resist differently, and the per-axis statics leave that coupling out.
+// lets it further, by as much in MuJoCo as in the statics of the same law (the flexor and the radial muscle pull
+// towards their axes' stiffer sides, 1.5 k and 1.4 k, the other two towards the softer). Each muscle with the asymmetry
+// of its own axis only: a muscle's pull turns the hand a little about the other axis too (the 3D paths), which a
+// stiffness asymmetric there would resist differently, and the per-axis statics leave that coupling out.
 TEST(ModelFreeMotion, AnAsymmetricWristSettlesAsTheStaticsSay) {
   EXPECT_GT(expect_settling_as_the_statics([](MuscleIndex muscle) {
               DeviceDescription asymmetric = paper_device();
               (physics::axis_of(muscle) == physics::WristAxis::kFlexionExtension
                    ? asymmetric.wrist.stiffness_asymmetry_fe
-                   : asymmetric.wrist.stiffness_asymmetry_ur) = muscle % 2 == 0 ? -0.5 : 0.4;
+                   : asymmetric.wrist.stiffness_asymmetry_ur) = std::array{0.5, 0.4, -0.5, -0.4}[muscle];
               return asymmetric;
             }),
             deg_to_rad(2.0));
