@@ -144,25 +144,24 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
   // where the muscle wraps, a lag on the trials whose pressures move) leaves the rest bit for bit; a resample drawn
   // from those alone closes exactly 0, and with few units per trial (a torque sweep holds out four angles of a
   // muscle) such resamples fill the lower 2.5 % whatever the moved units say.
-  const auto moved = [&](std::size_t t, std::size_t u) {
-    const double a = before.per_trial[t][u].first, b = after.per_trial[t][u].first;
-    return std::abs(a - b) > 1e-12 * std::max(std::abs(a), std::abs(b));
-  };
-  // Conditioned only where at least two units move: given that a single moved unit is drawn, every resample would
-  // hold it, and a change that fits one held angle would have an interval above zero on that one alone.
+  std::vector<std::vector<bool>> moved(before.per_trial.size());
   int units_moved = 0;
   for (std::size_t t = 0; t < before.per_trial.size(); ++t) {
-    if (!problem.scored(t)) continue;
-    for (std::size_t u = 0; u < before.per_trial[t].size(); ++u) units_moved += moved(t, u) ? 1 : 0;
+    for (std::size_t u = 0; u < before.per_trial[t].size(); ++u) {
+      const double a = before.per_trial[t][u].first, b = after.per_trial[t][u].first;
+      moved[t].push_back(problem.scored(t) && std::abs(a - b) > 1e-12 * std::max(std::abs(a), std::abs(b)));
+      units_moved += moved[t].back() ? 1 : 0;
+    }
   }
+  // Conditioned only where at least two units move: given that a single moved unit is drawn, every resample would
+  // hold it, and a change that fits one held angle would have an interval above zero on that one alone.
   const bool conditioned = units_moved >= 2;
   std::vector<double> shrinks;
   for_each_resample(problem, resamples, seed, before, [&](const std::vector<std::vector<int>>& weights) {
     bool holds_a_moved_unit = !conditioned;
     for (std::size_t t = 0; t < weights.size() && !holds_a_moved_unit; ++t) {
-      if (!problem.scored(t)) continue;
       for (std::size_t u = 0; u < weights[t].size() && !holds_a_moved_unit; ++u)
-        holds_a_moved_unit = weights[t][u] > 0 && moved(t, u);
+        holds_a_moved_unit = weights[t][u] > 0 && moved[t][u];
     }
     const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
     // A resample without any gap (all its units where the model was already right), or without any unit the change

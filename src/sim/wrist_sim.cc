@@ -1,6 +1,7 @@
 #include "sim/wrist_sim.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -59,6 +60,20 @@ std::vector<WristSim::MovingSurface> moving_surfaces(const mjModel* model) {
   return surfaces;
 }
 
+[[noreturn]] void fail_numeric(const char* name, const std::string& problem) {
+  throw std::runtime_error(std::string("wrist model: custom numeric '") + name + "' " + problem);
+}
+
+// The two values of the model's custom <numeric> `name` (model_builder.h), or none where it carries none; `what` names
+// them for the error where it holds another number of values.
+std::optional<std::array<double, 2>> numeric_pair(const mjModel* model, const char* name, const char* what) {
+  const int numeric = mj_name2id(model, mjOBJ_NUMERIC, name);
+  if (numeric < 0) return std::nullopt;
+  if (model->numeric_size[numeric] != 2) fail_numeric(name, std::string("must hold 2 values (") + what + ")");
+  const mjtNum* values = model->numeric_data + model->numeric_adr[numeric];
+  return std::array<double, 2>{values[0], values[1]};
+}
+
 }  // namespace
 
 WristSim::WristSim(const Model& model)
@@ -77,27 +92,18 @@ WristSim::WristSim(const Model& model)
     const std::string rate = kMuscleNames[i] + std::string(plugin::FpamConfig::kPressureRateSuffix);
     pressure_rate_actuator_[i] = mj_name2id(model.get(), mjOBJ_ACTUATOR, rate.c_str());
   }
-  const int numeric = mj_name2id(model.get(), mjOBJ_NUMERIC, kLimitStiffeningNumeric);
-  if (numeric >= 0) {
-    if (model->numeric_size[numeric] != 2) {
-      throw std::runtime_error(std::string("wrist model: custom numeric '") + kLimitStiffeningNumeric +
-                               "' must hold 2 values (torque [N m], e-folding angle [rad])");
-    }
-    const mjtNum* values = model->numeric_data + model->numeric_adr[numeric];
-    limit_stiffening_ = {.torque = values[0], .angle_scale = values[1]};
-    if (!(limit_stiffening_.torque >= 0.0) || !(limit_stiffening_.angle_scale > 0.0)) {
-      throw std::runtime_error(std::string("wrist model: custom numeric '") + kLimitStiffeningNumeric +
-                               "' needs a torque >= 0 and an e-folding angle > 0");
-    }
+  if (const auto values = numeric_pair(model.get(), kLimitStiffeningNumeric, "torque [N m], e-folding angle [rad]")) {
+    limit_stiffening_ = {.torque = (*values)[0], .angle_scale = (*values)[1]};
+    if (!(limit_stiffening_.torque >= 0.0) || !(limit_stiffening_.angle_scale > 0.0))
+      fail_numeric(kLimitStiffeningNumeric, "needs a torque >= 0 and an e-folding angle > 0");
   }
-  if (const int asymmetry = mj_name2id(model.get(), mjOBJ_NUMERIC, kStiffnessAsymmetryNumeric); asymmetry >= 0) {
-    const mjtNum* values = model->numeric_data + model->numeric_adr[asymmetry];
-    if (model->numeric_size[asymmetry] != 2 || !(std::abs(values[0]) <= physics::kMaxStiffnessAsymmetry) ||
-        !(std::abs(values[1]) <= physics::kMaxStiffnessAsymmetry)) {
-      throw std::runtime_error(std::string("wrist model: custom numeric '") + kStiffnessAsymmetryNumeric +
-                               "' must hold 2 values (flexion/extension, ulnar/radial asymmetry), each within 0.9");
+  if (const auto values =
+          numeric_pair(model.get(), kStiffnessAsymmetryNumeric, "flexion/extension, ulnar/radial asymmetry")) {
+    stiffness_asymmetry_ = *values;
+    for (const double a : stiffness_asymmetry_) {
+      if (!(std::abs(a) <= physics::kMaxStiffnessAsymmetry))
+        fail_numeric(kStiffnessAsymmetryNumeric, "needs each within 0.9");
     }
-    stiffness_asymmetry_ = {values[0], values[1]};
   }
   // Four fPAMs and after them four companions for each of: the fabric's hysteresis, a second-order regulator
   // (sim/model_builder.cc).
