@@ -127,7 +127,29 @@ void WristSim::reset() {
 
 void WristSim::forward() {
   place_wrap_surfaces();
-  mj_forward(model_.get(), data_.get());
+  evaluate_clear_of_grazing_wraps(mj_forward);
+}
+
+// MuJoCo 2.2.2 measures a tendon's arc on a wrap cylinder with an unclamped acos (length_circle in
+// engine_util_misc.c): where the straight path just grazes the cylinder its two tangent points coincide, rounding can
+// put their cosine a last bit above 1, and the tendon's length and moment arms turn NaN (and, in the next step, the
+// accelerations: seed 14's elliptical_section, an idle extensor grazing its cylinder while the ulnar muscle held the
+// wrist still). The wrapped length is continuous there (an arc of zero), so the positions are evaluated a hair away
+// instead, the joints' angles offset by 1e-10 rad and up (a hand site moves 1e-11 m), then put back.
+void WristSim::evaluate_clear_of_grazing_wraps(void (*evaluate)(const mjModel*, mjData*)) {
+  const mjModel* m = model_.get();
+  mjData* d = data_.get();
+  evaluate(m, d);
+  const auto lengths_finite = [&] {
+    return std::all_of(d->ten_length, d->ten_length + m->ntendon, [](mjtNum l) { return std::isfinite(l); });
+  };
+  if (lengths_finite()) return;
+  const std::array<double, 2> angles{d->qpos[qpos_address_[0]], d->qpos[qpos_address_[1]]};
+  for (double offset = 1e-10; offset < 1e-5 && !lengths_finite(); offset *= 10.0) {
+    for (int j = 0; j < 2; ++j) d->qpos[qpos_address_[j]] = angles[j] + offset;
+    evaluate(m, d);
+  }
+  for (int j = 0; j < 2; ++j) d->qpos[qpos_address_[j]] = angles[j];
 }
 
 // The 2D law's equivalent circle (torque_geometry.h) at the muscle's joint angle, in its plane: the cylinder's centre
@@ -171,7 +193,13 @@ void WristSim::apply_relaxed_wrist_beyond_linear() {
 void WristSim::step() {
   apply_relaxed_wrist_beyond_linear();
   place_wrap_surfaces();
-  mj_step(model_.get(), data_.get());
+  if (model_->opt.integrator == mjINT_RK4) {
+    mj_step(model_.get(), data_.get());  // RK4 evaluates the positions inside its stages: no check between halves
+  } else {
+    // mj_step as its two halves (the same computation for Euler), the positions checked in between.
+    evaluate_clear_of_grazing_wraps(mj_step1);
+    mj_step2(model_.get(), data_.get());
+  }
   check_stable(data_.get());
 }
 

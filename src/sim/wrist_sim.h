@@ -66,6 +66,9 @@ class WristSim {
   // Each non-circular wrist surface's equivalent circle at the joints' present angles (model_builder.h).
   void place_wrap_surfaces();
   void forward();  // mj_forward at the present state, the surfaces placed
+  // Runs `evaluate` (mj_forward, mj_step1) at the present state, or a hair away where a tendon grazes its wrap
+  // cylinder and MuJoCo 2.2.2 would give it a NaN length.
+  void evaluate_clear_of_grazing_wraps(void (*evaluate)(const mjModel*, mjData*));
 
   std::vector<MovingSurface> moving_surfaces_;
   Model model_;  // shared, or this simulation's own copy where surfaces move

@@ -1,7 +1,8 @@
 // Model-level robustness, as property tests: placement files drawn at random over a wide range of valid devices
 // (every field of docs/placement-file.md varied at once), driven with random pressures, never give a NaN force, a
 // NaN or runaway state, or a MuJoCo instability warning, in the analytic model (src/physics) or in the simulation
-// (MuJoCo with the fPAM plugin); and an invalid file is refused before any model is built, naming the field.
+// (MuJoCo with the fPAM plugin); and an invalid file is refused before any model is built, naming the field. A
+// tendon grazing its wrap cylinder keeps a finite length (MuJoCo 2.2.2 alone gives it NaN there).
 
 #include <algorithm>
 #include <cmath>
@@ -133,6 +134,35 @@ TEST(ModelRobustness, RandomValidDevicesUnderRandomPressuresSimulateStably) {
 
 // Each field set to something no device has: refused by parse_device (before any model is built), the message
 // naming the file and the field.
+// MuJoCo 2.2.2 gives a spatial tendon whose straight path just grazes its wrap cylinder a NaN length (an unclamped
+// acos of a cosine rounded above 1; WristSim::evaluate_clear_of_grazing_wraps). Model and pose are those where seed
+// 14's elliptical_section diagnosis stopped: the idle extensor grazing its cylinder, the wrist held by the ulnar
+// muscle at 137 kPa. MuJoCo alone gives NaN there; the simulation a finite length, and it steps on.
+TEST(ModelRobustness, ATendonGrazingItsWrapCylinderKeepsAFiniteLength) {
+  const Model model = Model::FromFile(SOFTWRIST_SOURCE_DIR "/tests/sim/data/grazing_wrap.xml", PluginSet::Default());
+  constexpr double kFe = -0.10224725846181237, kUr = 0.2823603449519223;  // [rad], as the failing step began
+  const int extensor = model.id(mjOBJ_TENDON, "extensor");
+
+  const Data raw = make_data(model);
+  raw->qpos[model->jnt_qposadr[model.id(mjOBJ_JOINT, "wrist_fe")]] = kFe;
+  raw->qpos[model->jnt_qposadr[model.id(mjOBJ_JOINT, "wrist_ur")]] = kUr;
+  mj_forward(model.get(), raw.get());
+  ASSERT_TRUE(std::isnan(raw->ten_length[extensor])) << "MuJoCo no longer fails here: the fixture tests nothing";
+
+  WristSim wrist(model);
+  wrist.set_pose(kFe, kUr, {0.0, 0.0, 137.0, 0.0});
+  const double length = wrist.data()->ten_length[extensor];
+  ASSERT_TRUE(std::isfinite(length));
+  // Grazing, the path is the straight line between its two sites (an arc of zero).
+  const mjtNum* forearm = wrist.data()->site_xpos + 3 * model.id(mjOBJ_SITE, "extensor_forearm");
+  const mjtNum* hand = wrist.data()->site_xpos + 3 * model.id(mjOBJ_SITE, "extensor_hand");
+  EXPECT_NEAR(length, std::hypot(hand[0] - forearm[0], hand[1] - forearm[1], hand[2] - forearm[2]), 1e-9);
+  EXPECT_TRUE(std::isfinite(wrist.muscle_torque(kExtensor)));
+  // The wrist was all but still there: it steps on and stays.
+  EXPECT_NO_THROW(wrist.run(0.5));
+  EXPECT_NEAR(wrist.angle(physics::WristAxis::kUlnarRadial), kUr, 0.01);
+}
+
 TEST(ModelRobustness, InvalidDeviceIsRefusedNamingTheField) {
   const nlohmann::json valid = nlohmann::json::parse(device_to_json(paper_device()));
   struct Case {
