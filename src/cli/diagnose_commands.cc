@@ -96,9 +96,9 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   const fs::path dir = o.out.empty() ? fs::path(o.real) / "diagnosis" : fs::path(o.out);
   const auto report = diagnosis::write_diagnosis_report(d, dir, {.plots = !o.no_plots, .wall_s = wall});
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
-  const char* why = !d.routing_corrected_training_error.empty() ? " (diagnosed both ways: the better fit)"
-                    : !d.routing_training_error.empty()         ? " (the clearly lower training error as placed)"
-                                                                : "";
+  const char* why = !d.routing_heldout_error.empty()    ? " (diagnosed both ways: the better held-out fit)"
+                    : !d.routing_training_error.empty() ? " (the clearly lower training error as placed)"
+                                                        : "";
   out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing), why);
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);

@@ -190,10 +190,10 @@ struct Diagnosis {
   // file's first.
   sim::Routing routing = sim::Routing::kSpatial;
   std::vector<std::pair<sim::Routing, double>> routing_training_error;
-  // Where both routings were diagnosed (their nominals' errors within a factor 2): each one's lowest training error
+  // Where both routings were diagnosed (their nominals' errors within a factor 2): each one's lowest held-out error
   // of its corrected model and its nominal within the tolerances, weighed alike on the trials the routing changes
   // (range of motion, trajectory angles); the lower is kept.
-  std::vector<std::pair<sim::Routing, double>> routing_corrected_training_error;
+  std::vector<std::pair<sim::Routing, double>> routing_heldout_error;
   std::vector<EffectFit> effects;                         // each effect alone: the leader, then best first
   std::vector<EffectFit> combination;                     // the greedy combination, in the order the effects joined
   double heldout_nominal = 0.0, heldout_corrected = 0.0;  // all trials

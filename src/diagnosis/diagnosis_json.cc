@@ -117,8 +117,8 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["routing"] = {{"used", sim::to_string(d.routing)}};
   for (const auto& [routing, error] : d.routing_training_error)
     j["routing"]["training_error_as_placed"][sim::to_string(routing)] = error;
-  for (const auto& [routing, error] : d.routing_corrected_training_error)
-    j["routing"]["training_error_corrected"][sim::to_string(routing)] = error;
+  for (const auto& [routing, error] : d.routing_heldout_error)
+    j["routing"]["heldout_error_best"][sim::to_string(routing)] = error;
   if (!d.beyond_tolerance.empty()) {
     j["beyond_tolerance"] = nlohmann::json::array();
     for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b, true));

@@ -678,7 +678,7 @@ TEST_F(DiagnosisTest, TwoRigsInOneDirectoryShareTheMountStiffness) {
   ASSERT_EQ(d.verdict, "mount_stretch") << d.reason;
   // The rigid nominal's misfit hides the routing as placed (the planar one a little lower): both routings are
   // diagnosed, and the spatial one the data were simulated with fits far better once the mounts stretch.
-  ASSERT_EQ(d.routing_corrected_training_error.size(), 2u);
+  ASSERT_EQ(d.routing_heldout_error.size(), 2u);
   EXPECT_EQ(d.routing, sim::Routing::kSpatial);
   EXPECT_NEAR(param(d.combination.front(), "K_series_n_per_cm2"), 30.16, 1.5);  // as in the paper's case above
   ASSERT_TRUE(d.corrected.has_value());
