@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "fpam_config.h"
 #include "sim/model_builder.h"
 
@@ -79,7 +81,8 @@ std::optional<std::array<double, 2>> numeric_pair(const mjModel* model, const ch
 WristSim::WristSim(const Model& model)
     : moving_surfaces_(moving_surfaces(model.get())),
       model_(moving_surfaces_.empty() ? model : model.Copy()),
-      data_(make_data(model_)) {
+      data_(make_data(model_)),
+      warm_start_(static_cast<std::size_t>(model_->nv)) {
   const char* names[2] = {"wrist_fe", "wrist_ur"};
   for (int j = 0; j < 2; ++j) {
     const int joint = model.id(mjOBJ_JOINT, names[j]);
@@ -132,24 +135,36 @@ void WristSim::forward() {
 
 // MuJoCo 2.2.2 measures a tendon's arc on a wrap cylinder with an unclamped acos (length_circle in
 // engine_util_misc.c): where the straight path just grazes the cylinder its two tangent points coincide, rounding can
-// put their cosine a last bit above 1, and the tendon's length and moment arms turn NaN (and, in the next step, the
+// put their cosine a last bit above 1, and the tendon's length and wrap points turn NaN (and, in the next step, the
 // accelerations: seed 14's elliptical_section, an idle extensor grazing its cylinder while the ulnar muscle held the
 // wrist still). The wrapped length is continuous there (an arc of zero), so the positions are evaluated a hair away
-// instead, the joints' angles offset by 1e-10 rad and up (a hand site moves 1e-11 m), then put back.
+// instead, the joints' angles offset by 1e-10 rad and up to 1e-6 (a hand site moves 1e-11 m), then put back; the
+// solver's warm start too, which a NaN evaluation by mj_forward would leave NaN.
 void WristSim::evaluate_clear_of_grazing_wraps(void (*evaluate)(const mjModel*, mjData*)) {
   const mjModel* m = model_.get();
   mjData* d = data_.get();
+  std::copy_n(d->qacc_warmstart, m->nv, warm_start_.begin());
   evaluate(m, d);
-  const auto lengths_finite = [&] {
-    return std::all_of(d->ten_length, d->ten_length + m->ntendon, [](mjtNum l) { return std::isfinite(l); });
+  const auto nan_tendon = [&] {
+    return std::find_if(d->ten_length, d->ten_length + m->ntendon, [](mjtNum l) { return !std::isfinite(l); }) -
+           d->ten_length;
   };
-  if (lengths_finite()) return;
+  if (nan_tendon() == m->ntendon) return;
   const std::array<double, 2> angles{d->qpos[qpos_address_[0]], d->qpos[qpos_address_[1]]};
-  for (double offset = 1e-10; offset < 1e-5 && !lengths_finite(); offset *= 10.0) {
+  for (const double offset : {1e-10, 1e-9, 1e-8, 1e-7, 1e-6}) {
     for (int j = 0; j < 2; ++j) d->qpos[qpos_address_[j]] = angles[j] + offset;
+    std::copy(warm_start_.begin(), warm_start_.end(), d->qacc_warmstart);
     evaluate(m, d);
+    if (nan_tendon() == m->ntendon) break;
   }
   for (int j = 0; j < 2; ++j) d->qpos[qpos_address_[j]] = angles[j];
+  if (const auto tendon = nan_tendon(); tendon < m->ntendon) {
+    const char* name = mj_id2name(m, mjOBJ_TENDON, static_cast<int>(tendon));
+    throw std::runtime_error(fmt::format(
+        "the simulation cannot go on: tendon '{}' has no finite length at flexion {:.6g} rad, ulnar deviation {:.6g} "
+        "rad, nor within 1e-6 rad of it (MuJoCo's wrap around its cylinder)",
+        name != nullptr ? name : "?", angles[0], angles[1]));
+  }
 }
 
 // The 2D law's equivalent circle (torque_geometry.h) at the muscle's joint angle, in its plane: the cylinder's centre
@@ -196,7 +211,7 @@ void WristSim::step() {
   if (model_->opt.integrator == mjINT_RK4) {
     mj_step(model_.get(), data_.get());  // RK4 evaluates the positions inside its stages: no check between halves
   } else {
-    // mj_step as its two halves (the same computation for Euler), the positions checked in between.
+    // mj_step as its two halves (the same computation for Euler and implicit), the positions checked in between.
     evaluate_clear_of_grazing_wraps(mj_step1);
     mj_step2(model_.get(), data_.get());
   }

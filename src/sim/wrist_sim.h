@@ -65,9 +65,10 @@ class WristSim {
   void step();
   // Each non-circular wrist surface's equivalent circle at the joints' present angles (model_builder.h).
   void place_wrap_surfaces();
-  void forward();  // mj_forward at the present state, the surfaces placed
+  void forward();  // mj_forward at the present state (or a hair away: below), the surfaces placed
   // Runs `evaluate` (mj_forward, mj_step1) at the present state, or a hair away where a tendon grazes its wrap
-  // cylinder and MuJoCo 2.2.2 would give it a NaN length.
+  // cylinder and MuJoCo 2.2.2 would give it a NaN length. Throws std::runtime_error naming the tendon where no
+  // offset up to 1e-6 rad helps.
   void evaluate_clear_of_grazing_wraps(void (*evaluate)(const mjModel*, mjData*));
 
   std::vector<MovingSurface> moving_surfaces_;
@@ -80,6 +81,7 @@ class WristSim {
   std::array<double, 2> stiffness_asymmetry_{};          // per joint; 0 unless it carries kStiffnessAsymmetryNumeric
   std::array<double, 2> joint_stiffness_{};              // per joint [N m/rad]
   std::array<std::array<double, 2>, 2> joint_limits_{};  // per joint: positive, negative limit [rad]
+  std::vector<mjtNum> warm_start_;                       // qacc_warmstart before an evaluation (nv)
 };
 
 }  // namespace softwrist::sim

@@ -132,8 +132,6 @@ TEST(ModelRobustness, RandomValidDevicesUnderRandomPressuresSimulateStably) {
   }
 }
 
-// Each field set to something no device has: refused by parse_device (before any model is built), the message
-// naming the file and the field.
 // MuJoCo 2.2.2 gives a spatial tendon whose straight path just grazes its wrap cylinder a NaN length (an unclamped
 // acos of a cosine rounded above 1; WristSim::evaluate_clear_of_grazing_wraps). Model and pose are those where seed
 // 14's elliptical_section diagnosis stopped: the idle extensor grazing its cylinder, the wrist held by the ulnar
@@ -163,6 +161,8 @@ TEST(ModelRobustness, ATendonGrazingItsWrapCylinderKeepsAFiniteLength) {
   EXPECT_NEAR(wrist.angle(physics::WristAxis::kUlnarRadial), kUr, 0.01);
 }
 
+// Each field set to something no device has: refused by parse_device (before any model is built), the message
+// naming the file and the field.
 TEST(ModelRobustness, InvalidDeviceIsRefusedNamingTheField) {
   const nlohmann::json valid = nlohmann::json::parse(device_to_json(paper_device()));
   struct Case {
