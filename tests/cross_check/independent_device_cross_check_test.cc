@@ -11,7 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <variant>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -60,14 +60,11 @@ TEST(IndependentDeviceCrossCheck, NominalTorqueRigMatchesTheAnalyticModelWithin1
 // trial's start) and softwrist's replay of its logged muscle pressures, after the first second (the start's transient:
 // the generator starts from the hand set down while the pressures fill, the replay from rest under them).
 std::array<double, 2> replay_difference_deg(const independent::Table& log, sim::DeviceDescription device) {
-  const auto column = [&](const char* name) {
-    const auto it = std::find(log.columns.begin(), log.columns.end(), name);
-    return static_cast<std::size_t>(it - log.columns.begin());
-  };
-  const auto number = [&](std::size_t row, const char* name) { return std::get<double>(log.rows[row][column(name)]); };
+  const std::vector<double> t = log.numbers("t_s"), fe = log.numbers("angle_fe_deg"), ur = log.numbers("angle_ur_deg");
+  const std::array<std::vector<double>, 4> p{log.numbers("p_flexor_kpa"), log.numbers("p_extensor_kpa"),
+                                             log.numbers("p_ulnar_kpa"), log.numbers("p_radial_kpa")};
   const auto pressures = [&](std::size_t row) {
-    return std::array<double, 4>{number(row, "p_flexor_kpa"), number(row, "p_extensor_kpa"), number(row, "p_ulnar_kpa"),
-                                 number(row, "p_radial_kpa")};
+    return std::array<double, 4>{p[0][row], p[1][row], p[2][row], p[3][row]};
   };
   sim::ModelOptions options;
   options.anatomy = false;
@@ -80,17 +77,15 @@ std::array<double, 2> replay_difference_deg(const independent::Table& log, sim::
                                     wrist.angle(physics::WristAxis::kUlnarRadial)};
   std::array<double, 2> sum_sq{};
   int n = 0;
-  for (std::size_t row = 0; row + 1 < log.rows.size(); ++row) {
-    if (number(row, "t_s") > 1.0) {
-      sum_sq[0] += std::pow(units::rad_to_deg(wrist.angle(physics::WristAxis::kFlexionExtension) - start[0]) -
-                                number(row, "angle_fe_deg"),
-                            2);
-      sum_sq[1] += std::pow(
-          units::rad_to_deg(wrist.angle(physics::WristAxis::kUlnarRadial) - start[1]) - number(row, "angle_ur_deg"), 2);
+  for (std::size_t row = 0; row + 1 < t.size(); ++row) {
+    if (t[row] > 1.0) {
+      sum_sq[0] +=
+          std::pow(units::rad_to_deg(wrist.angle(physics::WristAxis::kFlexionExtension) - start[0]) - fe[row], 2);
+      sum_sq[1] += std::pow(units::rad_to_deg(wrist.angle(physics::WristAxis::kUlnarRadial) - start[1]) - ur[row], 2);
       ++n;
     }
     wrist.set_regulated_pressures_kpa(pressures(row));
-    wrist.run(number(row + 1, "t_s") - number(row, "t_s"));
+    wrist.run(t[row + 1] - t[row]);
   }
   return {std::sqrt(sum_sq[0] / n), std::sqrt(sum_sq[1] / n)};
 }
