@@ -257,7 +257,7 @@ std::string FpamConfig::ToText() const {
     text += fmt::format(" {}={:.10g} {}={:.10g}", kForearmStiffness, law.mount_stiffness.forearm, kHandStiffness,
                         law.mount_stiffness.hand);
     const physics::MountStiffness& k = law.mount_stiffness;  // its shape as read, whatever the share
-    if (k.exponent != 2.0 || k.preload != 0.0)
+    if (!k.has_papers_shape())
       text += fmt::format(" {}={:.10g} {}={:.10g}", kMountExponent, k.exponent, kMountPreload, k.preload);
     if (k.shaped_share != 1.0) text += fmt::format(" {}={:.10g}", kMountShapedShare, k.shaped_share);
   }

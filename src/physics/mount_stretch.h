@@ -58,7 +58,9 @@ struct MountStiffness {
   double exponent = 2.0;      // n, in [kMinMountExponent, kMaxMountExponent]
   double preload = 0.0;       // F_p [N], in [0, kMaxMountPreload]
   double shaped_share = 1.0;  // s, in [0, 1]
-  bool is_papers_law() const { return (exponent == 2.0 && preload == 0.0) || shaped_share == 0.0; }
+  // Whether the shaped law is the paper's square law (its shape, whatever its share).
+  bool has_papers_shape() const { return exponent == 2.0 && preload == 0.0; }
+  bool is_papers_law() const { return has_papers_shape() || shaped_share == 0.0; }
   // Whether the stretch is one power of the pull above one preload (the self-consistent solve's variable u below).
   bool is_one_law() const { return is_papers_law() || shaped_share == 1.0; }
 };

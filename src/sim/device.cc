@@ -365,7 +365,7 @@ std::string device_to_json(const DeviceDescription& device) {
                   {"K2_n_per_cm2", units::n_per_m2_to_n_per_cm2(device.mount_stiffness.hand)}};
   // The shape as read (a share of 0 makes it the paper's law whatever the shape, but it is written back as read).
   const physics::MountStiffness& k = device.mount_stiffness;
-  if (k.exponent != 2.0 || k.preload != 0.0) {
+  if (!k.has_papers_shape()) {
     stretch["exponent"] = k.exponent;
     stretch["preload_n"] = k.preload;
   }
