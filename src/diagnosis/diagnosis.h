@@ -116,7 +116,8 @@ struct DiagnosisOptions {
   // paper's case came out `unexplained`).
   EffectBase effect_base = EffectBase::kBetterOfBoth;
   // Beyond the tolerances: how many of the best effects are refitted jointly with every tolerance, each with
-  // tolerance_evaluations replays.
+  // tolerance_evaluations replays; by default, how many runners-up are, where the leading effect falls short
+  // (Diagnosis::runners_up_beyond_tolerance).
   int beyond_joint_candidates = 2;
 };
 
@@ -234,6 +235,10 @@ struct Diagnosis {
   // By default: where the leading effect fitted from the nominal as placed explains less than the verdict needs, the
   // same effect fitted jointly with every tolerance, and its share of the gap they leave in the trials it acts on.
   std::optional<BeyondTolerance> leader_beyond_tolerance;
+  // Where that falls short too (or no effect led): the next single fits (DiagnosisOptions::beyond_joint_candidates of
+  // them, by held-out error) fitted jointly with every tolerance. The verdict names the one that fits the training
+  // part best, if better than the leader, where it closes explained_fraction of the gap the tolerances leave.
+  std::vector<BeyondTolerance> runners_up_beyond_tolerance;
   // A second effect on top of the first, where the first leaves a gap: its explained_fraction is the pair's, its
   // interval that of the cut it makes in what the first leaves.
   std::optional<BeyondTolerance> beyond_tolerance_second;

@@ -27,9 +27,9 @@ nlohmann::json tolerance_json(const ToleranceFit& tolerance) {
           {"evaluations", tolerance.evaluations}};
 }
 
-// An effect fitted beyond the tolerances, and what it closes of the gap they leave; with `ranked` (the ranking's
-// entries) also the training errors it was ranked by and the bootstrap interval, which the leader's refit of the
-// default path does not compute.
+// An effect fitted beyond the tolerances, its training error (the selection's) and what it closes of the gap they
+// leave; with `ranked` (the ranking's entries) also the bootstrap interval, which the joint refits of the default
+// path do not compute.
 nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b, bool ranked) {
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [name, value] : b.params) params[name] = value;
@@ -40,10 +40,10 @@ nlohmann::json beyond_tolerance_json(const Diagnosis::BeyondTolerance& b, bool r
                       {"heldout_error_with_effect", b.heldout_error_with_effect},
                       {"explained_fraction", b.explained_fraction},
                       {"explained_in_acted_on", b.explained_in_acted_on},
+                      {"train_error_within", b.train_error_within},
+                      {"train_error_with_effect", b.train_error_with_effect},
                       {"evaluations", b.evaluations}};
   if (ranked) {
-    j["train_error_within"] = b.train_error_within;
-    j["train_error_with_effect"] = b.train_error_with_effect;
     j["ci_low"] = b.ci_low;
     j["ci_high"] = b.ci_high;
   }
@@ -126,6 +126,11 @@ nlohmann::json to_json(const Diagnosis& d) {
   if (d.beyond_tolerance_second) j["beyond_tolerance_second"] = beyond_tolerance_json(*d.beyond_tolerance_second, true);
   if (d.leader_beyond_tolerance)
     j["leader_beyond_tolerance"] = beyond_tolerance_json(*d.leader_beyond_tolerance, false);
+  if (!d.runners_up_beyond_tolerance.empty()) {
+    j["runners_up_beyond_tolerance"] = nlohmann::json::array();
+    for (const auto& b : d.runners_up_beyond_tolerance)
+      j["runners_up_beyond_tolerance"].push_back(beyond_tolerance_json(b, false));
+  }
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = nlohmann::json::array();
   for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
