@@ -589,7 +589,7 @@ std::optional<Diagnosis::BeyondTolerance> jointly_with_tolerances(const Diagnosi
 // the next single fits likewise (Diagnosis::runners_up_beyond_tolerance): ranked as fitted on a fixed base, an effect
 // whose form the tolerances had partly taken (a wrist surface that is an ellipse, which the torque rig's anchors at
 // their boxes' edges imitate) can trail one that soaks up the scatter (the mounts), and only fitted with them does it
-// show what it closes (the independent device's seed 16, elliptical_section: the mounts 24 %, the wrap 74 %).
+// show what it closes (the independent device's seed 16, elliptical_section: the mounts 24 %, the wrap 76 %).
 void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
                                      const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
   if (d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
