@@ -592,9 +592,8 @@ std::optional<Diagnosis::BeyondTolerance> jointly_with_tolerances(const Diagnosi
 // show what it closes (the independent device's seed 16, elliptical_section: the mounts 24 %, the wrap 76 %).
 void measure_leader_beyond_tolerance(Diagnosis& d, const GapProblem& problem, const ModelVariant& nominal,
                                      const sim::DeviceDescription& nominal_device, const DiagnosisOptions& options) {
+  // Without a gap trial no effect acts on one, and jointly_with_tolerances fits none.
   if (d.tolerance.params.empty() || d.explained_fraction >= options.explained_fraction) return;
-  const bool any_gap = std::any_of(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; });
-  if (!any_gap) return;
   if (!d.combination.empty())
     d.leader_beyond_tolerance =
         jointly_with_tolerances(d, problem, nominal, nominal_device, options, d.combination.front());
