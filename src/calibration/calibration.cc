@@ -126,6 +126,12 @@ Calibration calibrate_from_logs(const fs::path& log_dir, const sim::DeviceDescri
     c.not_in_placement.push_back(fmt::format("regulator dead time {:.4g} s (add it to the controller's lead_s by hand)",
                                              dx.corrected->regulator_dead_time));
   }
+  if (dx.corrected && dx.corrected->rom_residual_fraction >= 0.005) {
+    c.not_in_placement.push_back(fmt::format(
+        "{:.0f} % of the previous range-of-motion condition's pressure left when the angles were zeroed (lengthen "
+        "the protocol's pause before zeroing)",
+        100.0 * dx.corrected->rom_residual_fraction));
+  }
   return c;
 }
 

@@ -131,28 +131,56 @@ SearchedPoint best_of(const Residuals& residuals, const std::vector<std::vector<
   return best;
 }
 
-// The fit's search: the best of the start (the effect's own starting values) and the grid, then the polish from it.
-SearchedPoint search_unit_cube(const Residuals& residuals, std::vector<double> start_u, int max_evaluations) {
-  std::vector<std::vector<double>> candidates{std::move(start_u)};
-  for (std::vector<double>& u : start_grid(candidates.front().size())) candidates.push_back(std::move(u));
-  return polish(residuals, best_of(residuals, candidates), max_evaluations);
+// The start and the grid over its joined coordinates (start_grid), the separable ones (ParameterSpec::separable) held
+// at their start; each of those crossed with every separable coordinate also at the middle of its range.
+std::vector<std::vector<double>> start_candidates(const std::vector<double>& start_u,
+                                                  const std::vector<bool>& separable) {
+  std::vector<std::size_t> joined;
+  for (std::size_t i = 0; i < start_u.size(); ++i) {
+    if (!separable[i]) joined.push_back(i);
+  }
+  std::vector<std::vector<double>> candidates{start_u};
+  for (const std::vector<double>& g : start_grid(joined.size())) {
+    candidates.push_back(start_u);
+    for (std::size_t k = 0; k < joined.size(); ++k) candidates.back()[joined[k]] = g[k];
+  }
+  for (std::size_t i = 0; i < start_u.size(); ++i) {
+    if (!separable[i] || start_u[i] == 0.5) continue;
+    const std::size_t n = candidates.size();
+    for (std::size_t c = 0; c < n; ++c) {
+      candidates.push_back(candidates[c]);
+      candidates.back()[i] = 0.5;
+    }
+  }
+  return candidates;
 }
 
-// The base form's search (fit_effect): the parameters `base_indices` from the start, the grid and the polish, the
-// others held at their starting values.
-SearchedPoint search_base_form(const Residuals& residuals, const std::vector<double>& start_u,
-                               const std::vector<std::size_t>& base_indices, int max_evaluations) {
+// The fit's search: the best of the start (the effect's own starting values) and the grid, then the polish from it.
+SearchedPoint search_unit_cube(const Residuals& residuals, const std::vector<double>& start_u,
+                               const std::vector<bool>& separable, int max_evaluations) {
+  return polish(residuals, best_of(residuals, start_candidates(start_u, separable)), max_evaluations);
+}
+
+// The base form's search (fit_effect): its parameters (those not ParameterSpec::extension) from the start, the grid
+// and the polish, the others held at their starting values.
+SearchedPoint search_base_form(const Residuals& residuals, const std::vector<double>& start_u, const EffectSpec& spec,
+                               int max_evaluations) {
+  const std::vector<std::size_t> base_indices = parameter_indices(spec, /*extensions=*/false);
   const auto expand = [&](std::span<const double> reduced) {
     std::vector<double> u = start_u;
     for (std::size_t k = 0; k < reduced.size(); ++k) u[base_indices[k]] = reduced[k];
     return u;
   };
   std::vector<double> reduced_start;
-  for (const std::size_t i : base_indices) reduced_start.push_back(start_u[i]);
+  std::vector<bool> separable;
+  for (const std::size_t i : base_indices) {
+    reduced_start.push_back(start_u[i]);
+    separable.push_back(spec.parameters[i].separable);
+  }
   Residuals reduced{.fine = [&](std::span<const double> r) { return residuals.fine(expand(r)); }, .coarse = {}};
   if (residuals.coarse) reduced.coarse = [&](std::span<const double> r) { return residuals.coarse(expand(r)); };
   SearchedPoint found =
-      search_unit_cube(reduced, std::move(reduced_start), search_budget(max_evaluations, base_indices.size()));
+      search_unit_cube(reduced, reduced_start, separable, search_budget(max_evaluations, base_indices.size()));
   found.u = expand(found.u);
   return found;
 }
@@ -281,8 +309,7 @@ EffectSearch search_effect(const GapProblem& problem, EffectId id, const BaseMod
   // nominal's own (extend_fit tries them).
   const EffectObjective objective(problem, id, base, s.evaluations);
   const SearchedPoint searched =
-      search_base_form(objective.residual_functions(), objective.start_u, parameter_indices(spec, /*extensions=*/false),
-                       options.max_evaluations);
+      search_base_form(objective.residual_functions(), objective.start_u, spec, options.max_evaluations);
   s.u = searched.u;
   s.training_error = searched.training_error;
   s.heldout_after = objective.heldout_at(searched.u);

@@ -14,6 +14,25 @@ namespace {
 
 using K = TrialKind;
 
+// The regulators' response; its own function for the catalogue's length.
+EffectSpec regulator_lag_spec() {
+  return {
+      EffectId::kRegulatorLag,
+      "regulator_lag",
+      "the regulators follow the command with another time constant, venting that many times slower or faster "
+      "than they fill (sim::Regulator), after a dead time, and with a second-order response, tau2^2 p'' + tau p' + p "
+      "= u (physics/pressure_regulator.h: an S-shaped rise, an overshoot where tau2 > tau/2); and, where a "
+      "range of motion's angles were zeroed between conditions, the previous condition's muscle still holding a "
+      "share of its pressure when they were (a vent too slow for the protocol's pause: ReplayEngine::predict_rom)",
+      {{"time_constant_s", 0.01, 1.0, true, NAN},
+       {"dead_time_s", 0.0, 0.3, false, 0.0},
+       {"vent_ratio", 0.25, 8.0, true, 1.0},
+       {"second_order_time_s", 0.0, 0.25, false, 0.0, /*extension=*/true},
+       {"rom_residual_fraction", 0.0, 0.9, false, 0.0, /*extension=*/false, /*separable=*/true}},
+      {K::kRangeOfMotion, K::kTrajectory},
+      /*through_regulators_only=*/true};
+}
+
 std::vector<EffectSpec> make_catalogue() {
   return {
       {EffectId::kMountStretch,
@@ -40,17 +59,7 @@ std::vector<EffectSpec> make_catalogue() {
         {"fabric_curvature", 0.0, 50.0, false, 0.0},
         {"eps_max_pressure_slope", -0.08, 0.08, false, 0.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTensile, K::kTrajectory}},
-      {EffectId::kRegulatorLag,
-       "regulator_lag",
-       "the regulators follow the command with another time constant, venting that many times slower or faster "
-       "than they fill (sim::Regulator), after a dead time, and with a second-order response, tau2^2 p'' + tau p' + p "
-       "= u (physics/pressure_regulator.h: an S-shaped rise, an overshoot where tau2 > tau/2)",
-       {{"time_constant_s", 0.01, 1.0, true, NAN},
-        {"dead_time_s", 0.0, 0.3, false, 0.0},
-        {"vent_ratio", 0.25, 8.0, true, 1.0},
-        {"second_order_time_s", 0.0, 0.25, false, 0.0, /*extension=*/true}},
-       {K::kTrajectory},
-       /*through_regulators_only=*/true},
+      regulator_lag_spec(),
       {EffectId::kHysteresis,
        "hysteresis",
        "the fPAM pulls harder while it is stretched (loading) than while it shortens (unloading), by a part of its "
@@ -239,7 +248,10 @@ void apply_effect(EffectId id, std::span<const double> values, ModelVariant& var
   apply_to_device(id, values, variant.device);
   for (auto& [placement, device] : variant.rigs) apply_to_device(id, values, device);
   // The parts that act where the model meets the measurement.
-  if (id == EffectId::kRegulatorLag) variant.regulator_dead_time = values[1];
+  if (id == EffectId::kRegulatorLag) {
+    variant.regulator_dead_time = values[1];
+    variant.rom_residual_fraction = values[4];
+  }
   if (id == EffectId::kImuBias) {
     variant.imu_offset_fe = units::deg_to_rad(values[0]);
     variant.imu_offset_ur = units::deg_to_rad(values[1]);

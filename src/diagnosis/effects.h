@@ -29,6 +29,9 @@ struct ParameterSpec {
   // Beyond the effect's base form (a regulator's second order): fitted only after the base form, and kept only where
   // it lowers the held-out error by more than one standard error (effect_fit.h).
   bool extension = false;
+  // Acts on trials none of the effect's other parameters acts on (a regulator's carry-over between range-of-motion
+  // conditions): separable from them, so the start grid crosses its levels with theirs instead of joining them.
+  bool separable = false;
 
   // The value <-> the unit interval the fits search in (log space where log_scale); from_unit clamps into [0, 1].
   double to_unit(double value) const;
@@ -57,7 +60,10 @@ struct ModelVariant {
   // The rigs that trials name by their placement file (Conventions::placement), each with the same effects applied
   // as `device`: a muscle's, a mount's or a regulator's property is fitted once across all rigs.
   std::map<std::filesystem::path, sim::DeviceDescription> rigs;
-  double regulator_dead_time = 0.0;                 // [s] commands reach the regulators this late
+  double regulator_dead_time = 0.0;  // [s] commands reach the regulators this late
+  // The share of the previous range-of-motion condition's pressure its muscle still held when the next condition's
+  // angles were zeroed (a regulator that vents slowly): ReplayEngine::predict_rom.
+  double rom_residual_fraction = 0.0;
   double imu_offset_fe = 0.0, imu_offset_ur = 0.0;  // [rad] added to the measured angles
   double imu_latency = 0.0;                         // [s] the measured angles are this old
   double imu_axis_roll = 0.0;  // [rad] the angles' axes turned about the forearm: fe' = c fe - s ur, ur' = s fe + c ur

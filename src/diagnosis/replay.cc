@@ -464,6 +464,10 @@ class MeasuredPressures {
 
 bool acts_on(const EffectSpec& effect, const PreparedTrial& trial) {
   if (!effect.acts_on_kind(trial.trial->kind)) return false;
+  // A settled limit does not depend on the regulators: they change a range of motion only through the pressure left
+  // when its angles were zeroed (predict_rom).
+  if (effect.through_regulators_only && trial.trial->kind == TrialKind::kRangeOfMotion)
+    return trial.trial->conventions.angles_zeroed_at_start;
   return !(trial.angles_from_measured_pressures && effect.through_regulators_only);
 }
 
@@ -755,33 +759,34 @@ std::vector<control::Pressures> ReplayEngine::drive_readings(const Trial& trial,
   return out;
 }
 
-std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(
-    const Trial& trial, const sim::DeviceDescription& device, const std::vector<std::pair<int, double>>& conditions,
-    double timestep) {
-  return cached(fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(device), timestep), [&] {
-    // Each muscle alone from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic
-    // statics (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
+std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial& trial,
+                                                                    const sim::DeviceDescription& device,
+                                                                    const std::vector<RomPose>& poses,
+                                                                    double timestep) {
+  std::string key = fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(device), timestep);
+  for (const RomPose& pose : poses) key += fmt::format("|{}:{}", pose.read, fmt::join(pose.pressure_kpa, ","));
+  return cached(key, [&] {
+    // Each pose from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic statics
+    // (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
     const auto started = std::chrono::steady_clock::now();
     const sim::Model model = load_model(device, trial, timestep);
     sim::WristSim wrist(model);
     auto result = std::make_shared<Simulated>();
-    for (const auto& [muscle_index, pressure] : conditions) {
-      const auto muscle = static_cast<sim::MuscleIndex>(muscle_index);
+    for (const RomPose& pose : poses) {
+      const auto read = static_cast<sim::MuscleIndex>(pose.read);
       wrist.reset();
-      std::array<double, 4> command{};
-      command[static_cast<std::size_t>(muscle)] = pa_to_kpa(pressure);
-      wrist.command_pressures_kpa(command);
+      wrist.command_pressures_kpa(pose.pressure_kpa);
       // Settled once the joint has been still (below 0.1 deg/s) for half a second after the first second, or
       // after kRomSettle.
       double still_since = 0.0;
       while (wrist.time() < kRomSettle - 1e-9 && (wrist.time() < 1.0 || wrist.time() - still_since < 0.5)) {
         wrist.run(0.05);
-        if (std::abs(wrist.velocity(physics::axis_of(muscle))) > 1.7e-3) still_since = wrist.time();
+        if (std::abs(wrist.velocity(physics::axis_of(read))) > 1.7e-3) still_since = wrist.time();
       }
-      result->fe.push_back(rad_to_deg(physics::direction_of(muscle) * wrist.angle(physics::axis_of(muscle))));
+      result->fe.push_back(rad_to_deg(physics::direction_of(read) * wrist.angle(physics::axis_of(read))));
     }
     std::lock_guard lock(mutex_);
-    stats_.settles += std::ssize(conditions);
+    stats_.settles += std::ssize(poses);
     stats_.settle_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return std::shared_ptr<const Simulated>(std::move(result));
   });
@@ -824,7 +829,7 @@ std::vector<double> ReplayEngine::predict(const PreparedTrial& prepared, const M
     case TrialKind::kTorqueSweep:
       return predict_sweep(trial, variant.device_for(trial));
     case TrialKind::kRangeOfMotion:
-      return predict_rom(trial, variant.device_for(trial), fidelity);
+      return predict_rom(trial, variant, fidelity);
     case TrialKind::kTensile:
       return predict_tensile(trial, variant.device_for(trial));
     case TrialKind::kTrajectory:
@@ -876,25 +881,48 @@ std::vector<double> ReplayEngine::predict_sweep(const Trial& trial, const sim::D
   return out;
 }
 
-std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const sim::DeviceDescription& device,
-                                              Fidelity fidelity) {
-  // The same muscle and pressure settle alike: one simulation per condition, in the order of the map. Angles zeroed
-  // at the start are read from where each muscle's axis rests at 0 kPa (under the hand's weight, if any).
-  const bool zeroed = trial.conventions.angles_zeroed_at_start;
-  std::map<std::pair<int, double>, double> settled;
-  for (const RomPoint& r : trial.rom) {
-    settled.try_emplace({r.muscle, r.pressure}, 0.0);
-    if (zeroed) settled.try_emplace({r.muscle, 0.0}, 0.0);
+// The poses a range-of-motion row is read from: the limit with its muscle at its pressure, and (angles zeroed) the
+// zero with it at rest. Where the angles were zeroed before each condition and the previous row's muscle had not
+// vented fully (ModelVariant::rom_residual_fraction, r: a regulator venting slowly for the protocol's pause), the zero
+// is taken with that muscle still at r times its pressure, and the limit read with it at r^2 times (as far again into
+// the vent: a hold as long as the pause, which the logs do not record). The rows are taken in the order they were
+// measured; the first starts from rest.
+std::pair<ReplayEngine::RomPose, ReplayEngine::RomPose> rom_poses(const Trial& trial, std::size_t row,
+                                                                  double residual_fraction) {
+  const RomPoint& r = trial.rom[row];
+  ReplayEngine::RomPose limit{.read = r.muscle}, zero{.read = r.muscle};
+  limit.pressure_kpa[static_cast<std::size_t>(r.muscle)] = pa_to_kpa(r.pressure);
+  if (row > 0 && residual_fraction > 0.0 && trial.conventions.angles_zeroed_at_start) {
+    const RomPoint& previous = trial.rom[row - 1];
+    const auto m = static_cast<std::size_t>(previous.muscle);
+    zero.pressure_kpa[m] = residual_fraction * pa_to_kpa(previous.pressure);
+    if (previous.muscle != r.muscle) limit.pressure_kpa[m] = residual_fraction * zero.pressure_kpa[m];
   }
-  std::vector<std::pair<int, double>> conditions;
-  for (const auto& [condition, angle] : settled) conditions.push_back(condition);
+  return {limit, zero};
+}
+
+std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const ModelVariant& variant, Fidelity fidelity) {
+  // The same pose settles alike: one simulation per pose, in the order of the map. Angles zeroed at the start are
+  // read from where the wrist rests at 0 kPa (under the hand's weight, if any), or with the previous condition's
+  // muscle not yet vented (rom_poses).
+  const bool zeroed = trial.conventions.angles_zeroed_at_start;
+  const double residual = variant.rom_residual_fraction;
+  std::map<RomPose, double> settled;
+  for (std::size_t i = 0; i < trial.rom.size(); ++i) {
+    const auto [limit, zero] = rom_poses(trial, i, residual);
+    settled.try_emplace(limit, 0.0);
+    if (zeroed) settled.try_emplace(zero, 0.0);
+  }
+  std::vector<RomPose> poses;
+  for (const auto& [pose, angle] : settled) poses.push_back(pose);
   const auto simulated =
-      settle(trial, device, conditions, fidelity == Fidelity::kCoarse ? steps_.coarse : steps_.settle);
+      settle(trial, variant.device_for(trial), poses, fidelity == Fidelity::kCoarse ? steps_.coarse : steps_.settle);
   std::size_t k = 0;
-  for (auto& [condition, angle] : settled) angle = simulated->fe[k++];
+  for (auto& [pose, angle] : settled) angle = simulated->fe[k++];
   std::vector<double> out;
-  for (const RomPoint& r : trial.rom) {
-    out.push_back(settled.at({r.muscle, r.pressure}) - (zeroed ? settled.at({r.muscle, 0.0}) : 0.0));
+  for (std::size_t i = 0; i < trial.rom.size(); ++i) {
+    const auto [limit, zero] = rom_poses(trial, i, residual);
+    out.push_back(settled.at(limit) - (zeroed ? settled.at(zero) : 0.0));
   }
   return out;
 }

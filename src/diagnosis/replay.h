@@ -9,7 +9,9 @@
 //    them analytically costs microseconds instead of a simulated hold of a second per point.
 //  - range of motion: the MuJoCo model, each muscle alone from the neutral wrist, settled for 6 s (as the
 //    range-of-motion experiment). The analytic statics (sim::settled_angle) leave out the 3D tendon paths and
-//    differ from the simulation by up to a degree, more than the motion capture's noise.
+//    differ from the simulation by up to a degree, more than the motion capture's noise. Rows are taken in the order
+//    measured: a variant whose previous condition's muscle had not vented when the angles were zeroed
+//    (ModelVariant::rom_residual_fraction) reads each limit from that pose (predict_rom).
 //  - trajectories are dynamic: the MuJoCo model with the fPAM plugin, generated from the variant's device, from the
 //    neutral wrist at rest; the IMU pair is sampled every 10 ms, late by the variant's latency and offset by its
 //    bias. Where the log has the regulators' measured pressures, the muscles are driven by them (PressureSource) and
@@ -77,7 +79,8 @@ struct PreparedTrial {
 };
 
 // Whether `effect` changes `trial`'s replay: a kind it acts on, and not the angles of a trajectory replayed from its
-// measured pressures where the effect acts only through the regulators.
+// measured pressures where the effect acts only through the regulators, nor a range of motion whose angles were not
+// zeroed before each condition (the regulators reach a settled limit only through the zero).
 bool acts_on(const EffectSpec& effect, const PreparedTrial& trial);
 
 // Measured minus predicted, for each point of `trial`.
@@ -172,6 +175,13 @@ class ReplayEngine {
   // overshoot: slower than the smoothing), and the nominal's regulators give the fast part of a command's step.
   std::vector<control::Pressures> drive_readings(const Trial& trial, const ModelVariant& nominal) const;
 
+  // A range-of-motion pose: the muscles' pressures, and the muscle in whose own direction its angle is read.
+  struct RomPose {
+    std::array<double, 4> pressure_kpa{};
+    int read = 0;
+    auto operator<=>(const RomPose&) const = default;
+  };
+
  private:
   struct Simulated {
     double dt = 0.0;
@@ -184,7 +194,7 @@ class ReplayEngine {
   sim::Model load_model(const sim::DeviceDescription& device, const Trial& trial, double timestep) const;
   std::vector<double> predict_sweep(const Trial& trial, const sim::DeviceDescription& device) const;
   static std::vector<double> predict_tensile(const Trial& trial, const sim::DeviceDescription& device);
-  std::vector<double> predict_rom(const Trial& trial, const sim::DeviceDescription& device, Fidelity fidelity);
+  std::vector<double> predict_rom(const Trial& trial, const ModelVariant& variant, Fidelity fidelity);
   std::vector<double> predict_trajectory(const PreparedTrial& prepared, const ModelVariant& variant, bool training_only,
                                          Fidelity fidelity);
   // A trajectory's logged commands, or its measured pressures, replayed up to `horizon` [s] at `timestep` [s].
@@ -194,9 +204,9 @@ class ReplayEngine {
   // The regulators alone replaying the logged commands up to `horizon` [s], step by step as the plugin integrates
   // them in MuJoCo (pressure_kpa only).
   Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon) const;
-  // The settled angle [deg, own direction] of each (muscle, pressure [Pa]) alone, in `fe`.
+  // The settled angle [deg, own direction of each pose's `read` muscle] of each pose, in `fe`.
   std::shared_ptr<const Simulated> settle(const Trial& trial, const sim::DeviceDescription& device,
-                                          const std::vector<std::pair<int, double>>& conditions, double timestep);
+                                          const std::vector<RomPose>& poses, double timestep);
   sim::PluginSet plugins_;
   ReplaySteps steps_;
   PressureSource pressure_source_;

@@ -291,6 +291,8 @@ TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
     const auto d = run(real, device, {EffectId::kRegulatorLag});
     EXPECT_NEAR(param(fit_of(d, EffectId::kRegulatorLag), "time_constant_s"), 0.3, 0.03);  // 10 %
     EXPECT_NEAR(param(fit_of(d, EffectId::kRegulatorLag), "vent_ratio"), 2.0, 0.2);
+    // Its range of motion is not zeroed between conditions: no pressure carried into a zero to fit.
+    EXPECT_EQ(param(fit_of(d, EffectId::kRegulatorLag), "rom_residual_fraction"), 0.0);
   }
   {
     SyntheticDevice real{.device = device, .imu_offset_fe_deg = 2.0, .imu_offset_ur_deg = -1.5, .imu_latency = 0.03};

@@ -337,5 +337,63 @@ TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
   EXPECT_LT(p.noise, 0.2);
 }
 
+// A range of motion whose angles were zeroed between conditions, read in the log's order (ReplayEngine::predict_rom):
+// where the previous condition's muscle still held a share r of its pressure when they were zeroed (a slow vent), the
+// zero is that muscle's settled angle at r times its pressure, and each reading is off by it.
+class RangeOfMotionCarryOver : public ::testing::Test {
+ protected:
+  static Trial rom_trial(const std::vector<std::pair<sim::MuscleIndex, double>>& rows_kpa) {
+    Trial t{.kind = TrialKind::kRangeOfMotion, .name = "rom", .file = "rom"};
+    t.conventions.angles_zeroed_at_start = true;
+    for (const int repetition : {1, 2}) {
+      for (const auto& [muscle, kpa] : rows_kpa)
+        t.rom.push_back({.muscle = muscle, .pressure = units::kpa_to_pa(kpa), .repetition = repetition});
+    }
+    return t;
+  }
+  std::vector<double> readings(const Trial& trial, double residual_fraction) {
+    RealData data;
+    data.trials.push_back(trial);
+    const ModelVariant variant{.device = sim::paper_device(), .rom_residual_fraction = residual_fraction};
+    const std::vector<PreparedTrial> prepared = prepare(data, engine_, variant);
+    return engine_.predict(prepared.at(0), variant, false);
+  }
+  ReplayEngine engine_{sim::PluginSet::Default()};
+};
+
+TEST_F(RangeOfMotionCarryOver, TheZeroIsTakenWithThePreviousMuscleNotYetVented) {
+  constexpr double kResidual = 0.4;
+  const Trial trial = rom_trial({{sim::kFlexor, 68.0}, {sim::kFlexor, 137.0}, {sim::kExtensor, 34.0}});
+  const std::vector<double> vented = readings(trial, 0.0);
+  const std::vector<double> carried = readings(trial, kResidual);
+  // The first row starts from rest.
+  EXPECT_DOUBLE_EQ(carried[0], vented[0]);
+  // The flexor at 137 kPa, zeroed with itself still at 0.4 x 68 kPa: its reading less that pose's angle.
+  const double residual_angle = readings(rom_trial({{sim::kFlexor, kResidual * 68.0}}), 0.0)[0];
+  EXPECT_GT(residual_angle, 1.0);
+  EXPECT_NEAR(carried[1], vented[1] - residual_angle, 1e-3);
+  // The extensor after the flexor at 137 kPa: zeroed with the wrist flexed, so it reads further (the flexor's r^2
+  // share at the limit takes back less than the zero gave).
+  EXPECT_GT(carried[2], vented[2] + 1.0);
+  // The next repetition's flexor, zeroed with the extensor still pulling, reads further too.
+  EXPECT_GT(carried[3], vented[3]);
+}
+
+// Settled limits do not depend on the regulators: they reach a range of motion only through the zero.
+TEST_F(RangeOfMotionCarryOver, TheRegulatorsActOnlyWhereTheAnglesWereZeroedBeforeEachCondition) {
+  Trial trial = rom_trial({{sim::kFlexor, 137.0}, {sim::kExtensor, 137.0}});
+  const EffectSpec& regulator = effect_spec(EffectId::kRegulatorLag);
+  for (const bool zeroed : {true, false}) {
+    trial.conventions.angles_zeroed_at_start = zeroed;
+    RealData data;
+    data.trials.push_back(trial);
+    const std::vector<PreparedTrial> prepared = prepare(data, engine_, ModelVariant{.device = sim::paper_device()});
+    EXPECT_EQ(acts_on(regulator, prepared.at(0)), zeroed);
+    if (!zeroed) {
+      EXPECT_EQ(readings(trial, 0.5), readings(trial, 0.0));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace softwrist::diagnosis
