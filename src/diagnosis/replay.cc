@@ -907,9 +907,10 @@ std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const ModelVar
   // muscle not yet vented (rom_poses).
   const bool zeroed = trial.conventions.angles_zeroed_at_start;
   const double residual = variant.rom_residual_fraction;
+  std::vector<std::pair<RomPose, RomPose>> rows;  // each row's limit and zero
   std::map<RomPose, double> settled;
   for (std::size_t i = 0; i < trial.rom.size(); ++i) {
-    const auto [limit, zero] = rom_poses(trial, i, residual);
+    const auto& [limit, zero] = rows.emplace_back(rom_poses(trial, i, residual));
     settled.try_emplace(limit, 0.0);
     if (zeroed) settled.try_emplace(zero, 0.0);
   }
@@ -920,10 +921,7 @@ std::vector<double> ReplayEngine::predict_rom(const Trial& trial, const ModelVar
   std::size_t k = 0;
   for (auto& [pose, angle] : settled) angle = simulated->fe[k++];
   std::vector<double> out;
-  for (std::size_t i = 0; i < trial.rom.size(); ++i) {
-    const auto [limit, zero] = rom_poses(trial, i, residual);
-    out.push_back(settled.at(limit) - (zeroed ? settled.at(zero) : 0.0));
-  }
+  for (const auto& [limit, zero] : rows) out.push_back(settled.at(limit) - (zeroed ? settled.at(zero) : 0.0));
   return out;
 }
 

@@ -351,13 +351,16 @@ class RangeOfMotionCarryOver : public ::testing::Test {
     }
     return t;
   }
-  std::vector<double> readings(const Trial& trial, double residual_fraction) {
-    RealData data;
-    data.trials.push_back(trial);
-    const ModelVariant variant{.device = sim::paper_device(), .rom_residual_fraction = residual_fraction};
-    const std::vector<PreparedTrial> prepared = prepare(data, engine_, variant);
-    return engine_.predict(prepared.at(0), variant, false);
+  // `trial` prepared alone (data_ holds it, as the prepared trial points into it).
+  PreparedTrial prepared(const Trial& trial) {
+    data_.trials = {trial};
+    return prepare(data_, engine_, ModelVariant{.device = sim::paper_device()}).at(0);
   }
+  std::vector<double> readings(const Trial& trial, double residual_fraction) {
+    const ModelVariant variant{.device = sim::paper_device(), .rom_residual_fraction = residual_fraction};
+    return engine_.predict(prepared(trial), variant, false);
+  }
+  RealData data_;
   ReplayEngine engine_{sim::PluginSet::Default()};
 };
 
@@ -385,10 +388,7 @@ TEST_F(RangeOfMotionCarryOver, TheRegulatorsActOnlyWhereTheAnglesWereZeroedBefor
   const EffectSpec& regulator = effect_spec(EffectId::kRegulatorLag);
   for (const bool zeroed : {true, false}) {
     trial.conventions.angles_zeroed_at_start = zeroed;
-    RealData data;
-    data.trials.push_back(trial);
-    const std::vector<PreparedTrial> prepared = prepare(data, engine_, ModelVariant{.device = sim::paper_device()});
-    EXPECT_EQ(acts_on(regulator, prepared.at(0)), zeroed);
+    EXPECT_EQ(acts_on(regulator, prepared(trial)), zeroed);
     if (!zeroed) {
       EXPECT_EQ(readings(trial, 0.5), readings(trial, 0.0));
     }
