@@ -763,13 +763,18 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial&
                                                                     const sim::DeviceDescription& device,
                                                                     const std::vector<RomPose>& poses,
                                                                     double timestep) {
-  std::string key = fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(device), timestep);
+  // A settled limit does not depend on how fast the regulators reach their pressures (the regulators act on a range of
+  // motion only through the pressure a slow vent leaves, which the poses carry): every pose settles under the
+  // nominal response, so the time constants a regulator_lag fit tries share one settle.
+  sim::DeviceDescription settling = device;
+  settling.regulator = sim::Regulator{.max_pressure = device.regulator.max_pressure};
+  std::string key = fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(settling), timestep);
   for (const RomPose& pose : poses) key += fmt::format("|{}:{}", pose.read, fmt::join(pose.pressure_kpa, ","));
   return cached(key, [&] {
     // Each pose from the neutral wrist at rest, settled as the range-of-motion experiment does; the analytic statics
     // (sim::settled_angle) differ from the 3D tendon paths by up to a degree.
     const auto started = std::chrono::steady_clock::now();
-    const sim::Model model = load_model(device, trial, timestep);
+    const sim::Model model = load_model(settling, trial, timestep);
     sim::WristSim wrist(model);
     auto result = std::make_shared<Simulated>();
     for (const RomPose& pose : poses) {

@@ -395,5 +395,24 @@ TEST_F(RangeOfMotionCarryOver, TheRegulatorsActOnlyWhereTheAnglesWereZeroedBefor
   }
 }
 
+// A settled limit does not depend on how fast the regulators reach their pressures: a regulator_lag fit's time
+// constants read the same limits from one settle per pose (ReplayEngine::settle).
+TEST_F(RangeOfMotionCarryOver, TheRegulatorsResponseDoesNotResettleTheLimits) {
+  const Trial trial = rom_trial({{sim::kFlexor, 137.0}, {sim::kExtensor, 68.0}});
+  const PreparedTrial p = prepared(trial);
+  ModelVariant variant{.device = sim::paper_device(), .rom_residual_fraction = 0.3};
+  const std::vector<double> nominal = engine_.predict(p, variant, false);
+  const auto settles = engine_.stats().settles;
+  variant.device.regulator.time_constant = 0.4;
+  variant.device.regulator.vent_time_constant = 1.2;
+  variant.device.regulator.second_order_time = 0.1;
+  EXPECT_EQ(engine_.predict(p, variant, false), nominal);
+  EXPECT_EQ(engine_.stats().settles, settles);
+  // The residual pressure is the carry-over's own: another fraction settles again.
+  variant.rom_residual_fraction = 0.5;
+  EXPECT_NE(engine_.predict(p, variant, false), nominal);
+  EXPECT_GT(engine_.stats().settles, settles);
+}
+
 }  // namespace
 }  // namespace softwrist::diagnosis
