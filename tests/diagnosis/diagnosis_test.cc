@@ -871,6 +871,35 @@ TEST_F(DiagnosisTest, WristSurfaceNotACircleIsWrapGeometry) {
   EXPECT_NEAR(param(f, "aspect_scale"), 1.5, 0.15);
 }
 
+// A wrist surface longer along the forearm and narrower across it than the nominal's circle (radius x 0.76, aspect
+// 1.7, as the independent generator's elliptical_section makes it at level 1), on the independent device's
+// placement, seen in a torque sweep (the search, not the tolerances, is what is tested): no extension level reaches
+// it from the nominal's radius, whose ellipse would hold the hand mounts (an infeasible start), nor from the base
+// form's optimum, a circle moved 4.4 mm towards the hand (before the extensions' levels were crossed with the base
+// parameters': unexplained, the aspect left at 1).
+TEST_F(DiagnosisTest, AWristSurfaceLongAndNarrowIsWrapGeometryWithBothItsAxes) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  const sim::DeviceDescription nominal =
+      sim::load_device(fs::path(SOFTWRIST_SOURCE_DIR) / "experiments/independent_device/prototype.json");
+  SyntheticDevice real{.device = nominal};
+  for (auto& m : real.device.muscles) {
+    m.wrist_radius *= 0.76;
+    m.wrap_surface.aspect = 1.7;
+  }
+  write_synthetic_data(real, {.range_of_motion = false, .tensile = false, .trajectory = false}, dir_ / "real");
+  const Diagnosis d =
+      diagnose(load_real_data(dir_ / "real"), nominal, engine_,
+               {.effects = {EffectId::kWrapGeometry}, .bootstrap = 100, .tolerances = Tolerances::none()});
+  ASSERT_EQ(d.verdict, "wrap_geometry") << d.reason;
+  const EffectFit& f = fit_of(d, EffectId::kWrapGeometry);
+  EXPECT_TRUE(f.extended);
+  EXPECT_GT(f.shrink_fraction, 0.9);
+  EXPECT_NEAR(param(f, "wrist_radius_scale"), 0.76, 0.03);
+  // One muscle's sweep trades the aspect against the centre along the forearm (1.93 with it 5.9 mm towards the
+  // elbow): longer along the forearm is what it fixes.
+  EXPECT_GT(param(f, "aspect_scale"), 1.5);
+}
+
 // A regulator whose response is of second order (physics/pressure_regulator.h; tau2 = 0.06 s against the nominal's
 // tau = 0.1 s, damping ratio 0.83: the rise starts late and bends like an S). The whole catalogue names regulator_lag
 // and finds the second time, not only a longer first-order lag or a dead time. The trajectory steps its commands: a
