@@ -765,7 +765,8 @@ std::shared_ptr<const ReplayEngine::Simulated> ReplayEngine::settle(const Trial&
                                                                     double timestep) {
   // A settled limit does not depend on how fast the regulators reach their pressures (the regulators act on a range of
   // motion only through the pressure a slow vent leaves, which the poses carry): every pose settles under the
-  // nominal response, so the time constants a regulator_lag fit tries share one settle.
+  // default response (sim::Regulator's, whatever the variant's or the placement's), so the time constants a
+  // regulator_lag fit tries share one settle.
   sim::DeviceDescription settling = device;
   settling.regulator = sim::Regulator{.max_pressure = device.regulator.max_pressure};
   std::string key = fmt::format("rom|{}|{}|{}", trial_key(trial), sim::device_to_json(settling), timestep);
