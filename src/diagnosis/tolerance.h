@@ -21,7 +21,8 @@ struct Tolerances {
   // pressures (standard deviation 2.6 % of the mean), its eps_max at the nonzero pressures 0.277-0.303 (0.012).
   double r0_fraction = 0.03;
   double eps_max = 0.012;
-  // The wrist's wrapping radius, measured on soft tissue: 2 mm of the paper's 3.99 cm (assumed).
+  // Each muscle's wrist radius, measured on soft tissue where that muscle crosses the wrist: 2 mm of the paper's
+  // 3.99 cm (assumed), each muscle's on its own (tolerance_fit.cc).
   double wrist_radius_fraction = 0.05;
   // The mounts' stretching coefficients: the paper fits one K per mount to a handful of points (Eqn.
   // fabric_stretching), and a band's stiffness changes with how tightly it is strapped (assumed).

@@ -21,7 +21,16 @@ namespace softwrist::diagnosis {
 namespace {
 
 // What one free parameter of the fit changes.
-enum class KnobKind { kCatalogue, kHandAnchorD2, kHandAnchorW2, kRestLength, kLimit, kMonitorOffset, kMonitorGain };
+enum class KnobKind {
+  kCatalogue,
+  kHandAnchorD2,
+  kHandAnchorW2,
+  kRestLength,
+  kWristRadius,
+  kLimit,
+  kMonitorOffset,
+  kMonitorGain
+};
 
 struct Knob {
   KnobKind kind;
@@ -33,6 +42,9 @@ struct Knob {
   std::filesystem::path rig;  // per rig: its placement file (empty: the diagnosis's --model)
   std::size_t index = 0;      // the muscle, the limit (flexion, extension, ulnar, radial) or the regulator
   bool cheap = false;         // changes only how a simulation is read (its replays are cached)
+  // The catalogue effect whose tolerance this is: held at the nominal where that effect is fitted beyond the
+  // tolerances (it then takes its whole value), as its own catalogue parameters are.
+  std::optional<EffectId> owner;
 };
 
 // Which muscles each rig's trials use (by their placement file), and whether any uses the wrist's dynamics (range of
@@ -85,7 +97,8 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
     for (std::size_t m : muscles) {
       const sim::MuscleMount& mount = device.muscles[m];
       const std::string prefix = fmt::format("{}.{}", rig_name(rig), sim::kMuscleNames[m]);
-      const auto add = [&](KnobKind kind, const char* field, double value_m, double tolerance_m) {
+      const auto add = [&](KnobKind kind, const char* field, double value_m, double tolerance_m,
+                           std::optional<EffectId> owner = std::nullopt) {
         if (tolerance_m <= 0.0) return;
         knobs.push_back({.kind = kind,
                          .name = fmt::format("{}.{}_cm", prefix, field),
@@ -94,11 +107,16 @@ void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, co
                          .high = (value_m + tolerance_m) / kCm,
                          .to_si = kCm,
                          .rig = rig,
-                         .index = m});
+                         .index = m,
+                         .owner = owner});
       };
       add(KnobKind::kHandAnchorD2, "d2", mount.placement.d2, t.anchor);
       add(KnobKind::kHandAnchorW2, "w2", mount.placement.w2, t.anchor);
       add(KnobKind::kRestLength, "L0", mount.rest_length, t.rest_length);
+      // Each muscle's wrist radius is measured on its own, where that muscle crosses the wrist (the paper's 3.99 cm
+      // and 3 cm), so each is off on its own: the fit frees each in place of wrap_geometry's one scale of them all.
+      add(KnobKind::kWristRadius, "rw", mount.wrist_radius, t.wrist_radius_fraction * mount.wrist_radius,
+          EffectId::kWrapGeometry);
     }
   }
   for (const auto& rig : usage.dynamic_rigs) {
@@ -157,6 +175,9 @@ void apply_knob(const Knob& k, double value, ModelVariant& v) {
     case KnobKind::kRestLength:
       device.muscles[k.index].rest_length = si;
       break;
+    case KnobKind::kWristRadius:
+      device.muscles[k.index].wrist_radius = si;
+      break;
     case KnobKind::kLimit: {
       double* limits[] = {&device.wrist.flexion_limit, &device.wrist.extension_limit, &device.wrist.ulnar_limit,
                           &device.wrist.radial_limit};
@@ -186,7 +207,8 @@ void add_catalogue_knobs(const GapProblem& problem, const ModelVariant& nominal,
   for (const EffectSpec& spec : effect_catalogue()) {
     const bool acts = std::any_of(problem.trials().begin(), problem.trials().end(),
                                   [&](const PreparedTrial& t) { return acts_on(spec, t); });
-    if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig)) continue;
+    // wrap_geometry's tolerance is each muscle's wrist radius (add_device_knobs).
+    if (!acts || (spec.id == EffectId::kMountStretch && rigid_rig) || spec.id == EffectId::kWrapGeometry) continue;
     const auto box = tolerance_box(spec.id, nominal.device, tolerances);
     if (!box) continue;
     ids.push_back(spec.id);
@@ -199,7 +221,8 @@ void add_catalogue_knobs(const GapProblem& problem, const ModelVariant& nominal,
                        .low = (*box)[i].first,
                        .high = (*box)[i].second,
                        .effect = ids.size() - 1,
-                       .parameter = i});
+                       .parameter = i,
+                       .owner = spec.id});
     }
   }
 }
@@ -232,7 +255,7 @@ struct Setup {
     for (std::size_t k = 0; k < knobs.size(); ++k) {
       if (knobs[k].kind == KnobKind::kCatalogue) {
         values[knobs[k].effect][knobs[k].parameter] = x[k];
-      } else {
+      } else if (!knobs[k].owner || std::find(without.begin(), without.end(), *knobs[k].owner) == without.end()) {
         apply_knob(knobs[k], x[k], v);
       }
     }
@@ -330,7 +353,7 @@ JointFit fit_effect_within_tolerances(const GapProblem& problem, const ModelVari
   optimize::LeastSquaresSettings settings = settings_of(setup.knobs, options);
   for (std::size_t k = 0; k < setup.knobs.size(); ++k) {
     const Knob& knob = setup.knobs[k];
-    const bool own = knob.kind == KnobKind::kCatalogue && setup.ids[knob.effect] == id;
+    const bool own = knob.owner == id;
     knobs_fitted.push_back(own ? knob.nominal : within.params[k].second);
     knobs_nominal.push_back(knob.nominal);
     if (own) settings.lower[k] = settings.upper[k] = knob.nominal;  // held (bounds equal: not searched)

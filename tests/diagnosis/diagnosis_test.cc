@@ -412,6 +412,37 @@ TEST_F(DiagnosisTest, OneMusclesAnchorWithinItsToleranceIsNone) {
   EXPECT_NEAR(fitted.at("model.flexor.d2_cm"), 100.0 * device.muscles[sim::kFlexor].placement.d2, 0.1);
 }
 
+// Each muscle's wrist radius is a tolerance of its own (tolerance_fit.cc): on the independent device's placement, where
+// every muscle wraps, the flexor's radius 4.5 % larger and the extensor's 4.5 % smaller than placed (within the 5 %
+// each, and no scale shared by them could say so). The fit moves each its own way, and wrap_geometry's base (the
+// tolerances without its own) holds every radius at the nominal, so that the effect takes its whole value.
+TEST_F(DiagnosisTest, EachMusclesWristRadiusIsAToleranceOfItsOwn) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  const sim::DeviceDescription nominal =
+      sim::load_device(fs::path(SOFTWRIST_SOURCE_DIR) / "experiments/independent_device/prototype.json");
+  SyntheticDevice real{.device = nominal};
+  real.device.muscles[sim::kFlexor].wrist_radius *= 1.045;
+  real.device.muscles[sim::kExtensor].wrist_radius *= 0.955;
+  write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
+  const DiagnosisOptions options{.bootstrap = 100};
+  Diagnosis d = diagnose(load_real_data(dir_ / "real"), nominal, engine_, options);
+  EXPECT_EQ(d.verdict, "none") << d.reason;
+  std::map<std::string, double> fitted(d.tolerance.params.begin(), d.tolerance.params.end());
+  EXPECT_FALSE(fitted.contains("wrap_geometry.wrist_radius_scale"));
+  const double flexor_cm = 100.0 * nominal.muscles[sim::kFlexor].wrist_radius;
+  const double extensor_cm = 100.0 * nominal.muscles[sim::kExtensor].wrist_radius;
+  EXPECT_NEAR(fitted.at("model.flexor.rw_cm"), 1.045 * flexor_cm, 0.05);
+  EXPECT_LT(fitted.at("model.extensor.rw_cm"), extensor_cm - 0.05);
+
+  const GapProblem problem(d.prepared, engine_);
+  const ModelVariant base = within_tolerances_without(problem, ModelVariant{.device = nominal}, options, d.tolerance,
+                                                      std::array{EffectId::kWrapGeometry});
+  for (std::size_t m = 0; m < 4; ++m)
+    EXPECT_EQ(base.device.muscles[m].wrist_radius, nominal.muscles[m].wrist_radius) << sim::kMuscleNames[m];
+  // The other tolerances stay where their fit left them.
+  EXPECT_NEAR(100.0 * base.device.muscles[sim::kExtensor].placement.d2, fitted.at("model.extensor.d2_cm"), 1e-9);
+}
+
 // The paper's device with an fPAM 10 % narrower at every pressure (3 % is within the r0 tolerance).
 SyntheticDevice narrower_fpam_device(const sim::DeviceDescription& device) {
   SyntheticDevice real{.device = device};
