@@ -415,7 +415,8 @@ TEST_F(DiagnosisTest, OneMusclesAnchorWithinItsToleranceIsNone) {
 // Each muscle's wrist radius is a tolerance of its own (tolerance_fit.cc): on the independent device's placement, where
 // every muscle wraps, the flexor's radius 4.5 % larger and the extensor's 4.5 % smaller than placed (within the 5 %
 // each, and no scale shared by them could say so). The fit moves each its own way, and wrap_geometry's base (the
-// tolerances without its own) holds every radius at the nominal, so that the effect takes its whole value.
+// tolerances without its own) holds every radius at the nominal, so that the effect takes its whole value. (The
+// verdict is not what changed: one shared scale with the anchors and rest lengths read `none` here too.)
 TEST_F(DiagnosisTest, EachMusclesWristRadiusIsAToleranceOfItsOwn) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const sim::DeviceDescription nominal =
