@@ -172,12 +172,7 @@ void run_synthesize(const SynthesizeOptions& o, std::ostream& out) {
   d.wrist.limit_stiffening.torque += o.limit_stiffening_nm;
   if (o.time_constant_s > 0) d.regulator.time_constant = o.time_constant_s;
   d.regulator.second_order_time = o.second_order_time_s;  // checked with the description below
-  std::vector<physics::FpamTableRow> rows = d.fpam.rows();
-  for (auto& row : rows) {
-    row.radius *= o.r0_scale;
-    row.max_contraction += o.eps_max_shift;
-  }
-  d.fpam = d.fpam.with_rows(std::move(rows));
+  d.fpam = d.fpam.scaled(o.r0_scale, o.eps_max_shift);
   sim::parse_device(sim::device_to_json(d), "the synthesized device");  // validates the edited description
   diagnosis::write_synthetic_data(real,
                                   {.measured_pressures = !o.no_measured_pressures,

@@ -40,13 +40,8 @@ class Draw {
 // benchmark's size detects: at twice these (0.3 % r0, eps_max 0.002, ...) the tensile test and the trajectory
 // already tell such a device from the nominal, and "none" would be the wrong answer.
 void vary_device(sim::DeviceDescription& d, Draw& draw, double scale) {
-  std::vector<physics::FpamTableRow> rows = d.fpam.rows();
   const double r0 = 1.0 + draw.normal(0.001 * scale), eps = draw.normal(0.0005 * scale);
-  for (auto& row : rows) {
-    row.radius *= r0;
-    row.max_contraction += eps;
-  }
-  d.fpam = d.fpam.with_rows(std::move(rows));
+  d.fpam = d.fpam.scaled(r0, eps);
   const double wrist = 1.0 + draw.normal(0.001 * scale);
   for (auto& m : d.muscles) m.wrist_radius *= wrist;
   d.wrist.stiffness_fe *= 1.0 + draw.normal(0.01 * scale);

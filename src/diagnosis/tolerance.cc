@@ -22,6 +22,8 @@ constexpr double kMm = 1e-3, kDeg = units::deg_to_rad(1.0), kKpa = units::kpa_to
 constexpr Field kFields[] = {
     {"r0_fraction", &Tolerances::r0_fraction, 1.0, 1.0, "a fraction"},
     {"eps_max", &Tolerances::eps_max, 1.0, 0.08, "the fit's range"},
+    {"muscle_r0_fraction", &Tolerances::muscle_r0_fraction, 1.0, 1.0, "a fraction"},
+    {"muscle_eps_max", &Tolerances::muscle_eps_max, 1.0, 0.08, "the fit's range"},
     {"wrist_radius_fraction", &Tolerances::wrist_radius_fraction, 1.0, 1.0, "a fraction"},
     {"mount_stiffness_fraction", &Tolerances::mount_stiffness_fraction, 1.0, 1.0, "a fraction"},
     {"passive_stiffness_fraction", &Tolerances::passive_stiffness_fraction, 1.0, 1.0, "a fraction"},

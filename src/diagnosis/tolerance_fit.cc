@@ -27,6 +27,8 @@ enum class KnobKind {
   kHandAnchorW2,
   kRestLength,
   kWristRadius,
+  kMuscleR0Scale,
+  kMuscleEpsMaxShift,
   kLimit,
   kMonitorOffset,
   kMonitorGain
@@ -86,38 +88,47 @@ constexpr const char* kLimitNames[] = {"flexion", "extension", "ulnar", "radial"
 
 std::string rig_name(const std::filesystem::path& rig) { return rig.empty() ? "model" : rig.stem().string(); }
 
+// One muscle's knobs on one rig: its hand anchor, rest length and wrist radius, and where freed its own fPAM.
+void add_muscle_knobs(const std::filesystem::path& rig, std::size_t m, const sim::MuscleMount& mount,
+                      const Tolerances& t, std::vector<Knob>& knobs) {
+  const std::string prefix = fmt::format("{}.{}.", rig_name(rig), sim::kMuscleNames[m]);
+  // value and tolerance in SI; field names the reported unit, to_si converts it.
+  const auto add = [&](KnobKind kind, const char* field, double value, double tolerance, double to_si,
+                       std::optional<EffectId> owner = std::nullopt) {
+    if (tolerance <= 0.0) return;
+    knobs.push_back({.kind = kind,
+                     .name = prefix + field,
+                     .nominal = value / to_si,
+                     .low = (value - tolerance) / to_si,
+                     .high = (value + tolerance) / to_si,
+                     .to_si = to_si,
+                     .rig = rig,
+                     .index = m,
+                     .owner = owner});
+  };
+  constexpr double kCm = units::cm_to_m(1.0);
+  add(KnobKind::kHandAnchorD2, "d2_cm", mount.placement.d2, t.anchor, kCm);
+  add(KnobKind::kHandAnchorW2, "w2_cm", mount.placement.w2, t.anchor, kCm);
+  add(KnobKind::kRestLength, "L0_cm", mount.rest_length, t.rest_length, kCm);
+  // Each muscle's wrist radius is measured on its own, where that muscle crosses the wrist (the paper's 3.99 cm and
+  // 3 cm), so each is off on its own: the fit frees each in place of wrap_geometry's one scale of them all.
+  add(KnobKind::kWristRadius, "rw_cm", mount.wrist_radius, t.wrist_radius_fraction * mount.wrist_radius, kCm,
+      EffectId::kWrapGeometry);
+  // Its own fPAM about the table (which fpam_params' tolerance scales for them all): held at the muscle's own where
+  // fpam_params is fitted beyond the tolerances, as the wrist radii are for wrap_geometry.
+  add(KnobKind::kMuscleR0Scale, "r0_scale", mount.fpam_radius_scale, t.muscle_r0_fraction * mount.fpam_radius_scale,
+      1.0, EffectId::kFpamParams);
+  add(KnobKind::kMuscleEpsMaxShift, "eps_max_shift", mount.fpam_max_contraction_shift, t.muscle_eps_max, 1.0,
+      EffectId::kFpamParams);
+}
+
 // The per-muscle, per-rig and per-regulator knobs the tolerances free.
 void add_device_knobs(const GapProblem& problem, const ModelVariant& nominal, const Tolerances& t,
                       std::vector<Knob>& knobs) {
   const Usage usage = usage_of(problem);
-  constexpr double kCm = units::cm_to_m(1.0);
-  for (const auto& [rig_path, muscles] : usage.muscles) {
-    const std::filesystem::path& rig = rig_path;  // a lambda cannot capture a structured binding before C++20
+  for (const auto& [rig, muscles] : usage.muscles) {
     const sim::DeviceDescription& device = rig.empty() ? nominal.device : nominal.rigs.at(rig);
-    for (std::size_t m : muscles) {
-      const sim::MuscleMount& mount = device.muscles[m];
-      const std::string prefix = fmt::format("{}.{}", rig_name(rig), sim::kMuscleNames[m]);
-      const auto add = [&](KnobKind kind, const char* field, double value_m, double tolerance_m,
-                           std::optional<EffectId> owner = std::nullopt) {
-        if (tolerance_m <= 0.0) return;
-        knobs.push_back({.kind = kind,
-                         .name = fmt::format("{}.{}_cm", prefix, field),
-                         .nominal = value_m / kCm,
-                         .low = (value_m - tolerance_m) / kCm,
-                         .high = (value_m + tolerance_m) / kCm,
-                         .to_si = kCm,
-                         .rig = rig,
-                         .index = m,
-                         .owner = owner});
-      };
-      add(KnobKind::kHandAnchorD2, "d2", mount.placement.d2, t.anchor);
-      add(KnobKind::kHandAnchorW2, "w2", mount.placement.w2, t.anchor);
-      add(KnobKind::kRestLength, "L0", mount.rest_length, t.rest_length);
-      // Each muscle's wrist radius is measured on its own, where that muscle crosses the wrist (the paper's 3.99 cm
-      // and 3 cm), so each is off on its own: the fit frees each in place of wrap_geometry's one scale of them all.
-      add(KnobKind::kWristRadius, "rw", mount.wrist_radius, t.wrist_radius_fraction * mount.wrist_radius,
-          EffectId::kWrapGeometry);
-    }
+    for (std::size_t m : muscles) add_muscle_knobs(rig, m, device.muscles[m], t, knobs);
   }
   for (const auto& rig : usage.dynamic_rigs) {
     if (t.passive_range_margin <= 0.0) break;
@@ -177,6 +188,12 @@ void apply_knob(const Knob& k, double value, ModelVariant& v) {
       break;
     case KnobKind::kWristRadius:
       device.muscles[k.index].wrist_radius = si;
+      break;
+    case KnobKind::kMuscleR0Scale:
+      device.muscles[k.index].fpam_radius_scale = si;
+      break;
+    case KnobKind::kMuscleEpsMaxShift:
+      device.muscles[k.index].fpam_max_contraction_shift = si;
       break;
     case KnobKind::kLimit: {
       double* limits[] = {&device.wrist.flexion_limit, &device.wrist.extension_limit, &device.wrist.ulnar_limit,

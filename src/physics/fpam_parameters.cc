@@ -67,6 +67,15 @@ FpamParameters FpamParameters::with_fabric(const FabricProperties& fabric) const
   return FpamParameters(rows_, fabric);
 }
 
+FpamParameters FpamParameters::scaled(double radius_scale, double max_contraction_shift) const {
+  std::vector<FpamTableRow> rows = rows_;
+  for (auto& row : rows) {
+    row.radius *= radius_scale;
+    row.max_contraction += max_contraction_shift;
+  }
+  return with_rows(std::move(rows));
+}
+
 FpamCoefficients FpamParameters::at_pressure(double pressure) const {
   require_non_negative("pressure [Pa]", pressure);
   if (pressure <= rows_.front().pressure) return {rows_.front().radius, rows_.front().max_contraction};

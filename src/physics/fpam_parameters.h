@@ -47,6 +47,9 @@ class FpamParameters {
   FpamParameters with_rows(std::vector<FpamTableRow> rows) const;
   // The same rows with another fabric, validated.
   FpamParameters with_fabric(const FabricProperties& fabric) const;
+  // Every row's r0 times radius_scale and eps_max plus max_contraction_shift (one fPAM's departure from another's
+  // table), validated.
+  FpamParameters scaled(double radius_scale, double max_contraction_shift) const;
 
   FpamCoefficients at_pressure(double pressure) const;
   const FabricProperties& fabric() const { return fabric_; }

@@ -138,9 +138,16 @@ physics::Muscle DeviceDescription::muscle(int index) const {
   return physics::Muscle{muscle_law(mount), mount.placement, mount.wrist_radius, mount.wrap_surface};
 }
 
+physics::FpamParameters DeviceDescription::fpam_of(const MuscleMount& mount) const {
+  if (mount.fpam_radius_scale == 1.0 && mount.fpam_max_contraction_shift == 0.0) return fpam;
+  return fpam.scaled(mount.fpam_radius_scale, mount.fpam_max_contraction_shift);
+}
+
 physics::MuscleLaw DeviceDescription::muscle_law(const MuscleMount& mount) const {
-  return {
-      .fpam = fpam, .rest_length = mount.rest_length, .stretch_mode = stretch_mode, .mount_stiffness = mount_stiffness};
+  return {.fpam = fpam_of(mount),
+          .rest_length = mount.rest_length,
+          .stretch_mode = stretch_mode,
+          .mount_stiffness = mount_stiffness};
 }
 
 DeviceDescription paper_device() {
@@ -171,9 +178,11 @@ void read_muscle_mounts(Reader muscles, DeviceDescription& device) {
     mount.wrist_radius = cm_to_m(m.number("rw_cm"));
     mount.wrap_surface = {cm_to_m(m.number("wrap_centre_x_cm", 0.0)), cm_to_m(m.number("wrap_centre_y_cm", 0.0)),
                           m.number("wrap_aspect", 1.0)};
+    mount.fpam_radius_scale = m.positive("r0_scale", 1.0);
+    mount.fpam_max_contraction_shift = m.number("eps_max_shift", 0.0);
     m.finish();
     try {
-      physics::validate(physics::Muscle{{.fpam = device.fpam, .rest_length = mount.rest_length},
+      physics::validate(physics::Muscle{{.fpam = device.fpam_of(mount), .rest_length = mount.rest_length},
                                         mount.placement,
                                         mount.wrist_radius,
                                         mount.wrap_surface});
@@ -358,6 +367,8 @@ std::string device_to_json(const DeviceDescription& device) {
       muscles[kMuscleNames[i]]["wrap_centre_y_cm"] = m_to_cm(m.wrap_surface.y);
     }
     if (!m.wrap_surface.circular()) muscles[kMuscleNames[i]]["wrap_aspect"] = m.wrap_surface.aspect;
+    if (m.fpam_radius_scale != 1.0) muscles[kMuscleNames[i]]["r0_scale"] = m.fpam_radius_scale;
+    if (m.fpam_max_contraction_shift != 0.0) muscles[kMuscleNames[i]]["eps_max_shift"] = m.fpam_max_contraction_shift;
   }
   const auto& w = device.wrist;
   json stretch = {{"mode", physics::to_string(device.stretch_mode)},

@@ -34,6 +34,10 @@ struct MuscleMount {
   double wrist_radius = 0.0;     // r_w [m] of the wrist surface this muscle wraps around
   // That surface's centre relative to the joint and its shape (torque_geometry.h); the paper's: a circle about it.
   physics::WrapSurface wrap_surface;
+  // This muscle's fPAM against the device's table (`fpam`, the tested one's): each muscle is cut and sealed on its
+  // own, so its r0 and eps_max differ a little from the table's. 1 and 0: the table's own.
+  double fpam_radius_scale = 1.0;
+  double fpam_max_contraction_shift = 0.0;
 };
 
 // The relaxed wrist and the hand (cited in docs/placement-file.md and the generated model).
@@ -94,7 +98,9 @@ std::optional<Routing> parse_routing(std::string_view text);
 struct DeviceDescription {
   std::array<MuscleMount, 4> muscles;
   Routing routing = Routing::kSpatial;
-  physics::FpamParameters fpam;        // shared by the four muscles (as in Section Range of motion)
+  // The table of the tested fPAM (Table tensile_testing_parameters), shared by the four muscles as in Section Range of
+  // motion, each muscle's own r0 and eps_max relative to it (MuscleMount::fpam_radius_scale, fpam_of).
+  physics::FpamParameters fpam;
   physics::FpamHysteresis hysteresis;  // the fabric's, shared too; none by default (the paper's static law)
   physics::StretchMode stretch_mode = physics::StretchMode::kNone;
   physics::MountStiffness mount_stiffness;
@@ -106,6 +112,8 @@ struct DeviceDescription {
   physics::Muscle muscle(int index) const;
   // The length-to-force law of a muscle mounted as `mount` (this device's fPAM and mounts): what its plugin holds.
   physics::MuscleLaw muscle_law(const MuscleMount& mount) const;
+  // That mount's muscle's own fPAM: the table with its r0 scale and eps_max shift.
+  physics::FpamParameters fpam_of(const MuscleMount& mount) const;
 };
 
 // The paper's device: the flexor of Table torque_measurement_parameters (with its r_w = 3.99 cm and K1, K2), the

@@ -444,6 +444,43 @@ TEST_F(DiagnosisTest, EachMusclesWristRadiusIsAToleranceOfItsOwn) {
   EXPECT_NEAR(100.0 * base.device.muscles[sim::kExtensor].placement.d2, fitted.at("model.extensor.d2_cm"), 1e-9);
 }
 
+// Each muscle's own fPAM can be a tolerance of its own (Tolerances::muscle_r0_fraction, muscle_eps_max; off by
+// default): on the independent device's placement, the extensor's r0 1.8 % larger and the flexor's 1.8 % smaller than
+// the table's (within 2 % each; the table's own scale, shared by all, cannot say so). Freed, each muscle has its knobs,
+// the device reads `none`, and fpam_params' base (the tolerances without its own) holds every muscle at the table.
+// Where each ends is not asserted: the fit trades a muscle's r0 against its L0, anchors and wrist radius.
+TEST_F(DiagnosisTest, EachMusclesOwnFpamCanBeAToleranceOfItsOwn) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
+  const sim::DeviceDescription nominal =
+      sim::load_device(fs::path(SOFTWRIST_SOURCE_DIR) / "experiments/independent_device/prototype.json");
+  SyntheticDevice real{.device = nominal};
+  real.device.muscles[sim::kExtensor].fpam_radius_scale = 1.018;
+  real.device.muscles[sim::kFlexor].fpam_radius_scale = 0.982;
+  write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
+  DiagnosisOptions options{.bootstrap = 100};
+  options.tolerances.muscle_r0_fraction = 0.02;
+  options.tolerances.muscle_eps_max = 0.009;
+  Diagnosis d = diagnose(load_real_data(dir_ / "real"), nominal, engine_, options);
+  EXPECT_EQ(d.verdict, "none") << d.reason;
+  std::map<std::string, double> fitted(d.tolerance.params.begin(), d.tolerance.params.end());
+  for (const char* muscle : {"flexor", "extensor", "ulnar", "radial"}) {
+    EXPECT_NEAR(fitted.at(fmt::format("model.{}.r0_scale", muscle)), 1.0, 0.02 + 1e-12) << muscle;
+    EXPECT_NEAR(fitted.at(fmt::format("model.{}.eps_max_shift", muscle)), 0.0, 0.009 + 1e-12) << muscle;
+  }
+
+  const GapProblem problem(d.prepared, engine_);
+  const ModelVariant base = within_tolerances_without(problem, ModelVariant{.device = nominal}, options, d.tolerance,
+                                                      std::array{EffectId::kFpamParams});
+  for (std::size_t m = 0; m < 4; ++m) {
+    EXPECT_EQ(base.device.muscles[m].fpam_radius_scale, 1.0) << sim::kMuscleNames[m];
+    EXPECT_EQ(base.device.muscles[m].fpam_max_contraction_shift, 0.0) << sim::kMuscleNames[m];
+  }
+  // Off by default: no muscle has such a knob.
+  const Diagnosis by_default = diagnose(load_real_data(dir_ / "real"), nominal, engine_, {.bootstrap = 100});
+  for (const auto& [name, value] : by_default.tolerance.params)
+    EXPECT_FALSE(name.starts_with("model.") && name.ends_with("_scale")) << name << " (" << by_default.verdict << ")";
+}
+
 // The paper's device with an fPAM 10 % narrower at every pressure (3 % is within the r0 tolerance).
 SyntheticDevice narrower_fpam_device(const sim::DeviceDescription& device) {
   SyntheticDevice real{.device = device};

@@ -87,5 +87,19 @@ TEST(FpamParameters, WithRowsKeepsTheFabricAndValidatesTheRows) {
   EXPECT_THROW(table.with_rows({}), InvalidParameter);
 }
 
+// One fPAM's departure from another's table (a muscle cut and sealed on its own, sim::MuscleMount): every row's r0
+// scaled and eps_max shifted, the fabric kept, the result validated as a table is.
+TEST(FpamParameters, ScaledScalesEveryRowsRadiusAndShiftsItsMaxContraction) {
+  const FabricProperties fabric{.elastic_modulus = 8e6, .thickness = 0.1e-3, .elastic_onset_contraction = 0.15};
+  const FpamParameters table = FpamParameters::Table({{0.0, 0.012, 0.15}, {137e3, 0.0126, 0.277}}, fabric);
+  const FpamParameters own = table.scaled(1.02, -0.005);
+  EXPECT_DOUBLE_EQ(own.at_pressure(0.0).radius, 1.02 * 0.012);
+  EXPECT_DOUBLE_EQ(own.at_pressure(137e3).max_contraction, 0.272);
+  EXPECT_DOUBLE_EQ(own.at_pressure(137e3).radius, 1.02 * 0.0126);
+  EXPECT_EQ(own.fabric(), table.fabric());
+  EXPECT_THROW((void)table.scaled(-1.0, 0.0), InvalidParameter);
+  EXPECT_THROW((void)table.scaled(1.0, 0.3), InvalidParameter);  // eps_max beyond Eqn. fiber_orientation's bound
+}
+
 }  // namespace
 }  // namespace softwrist::physics

@@ -80,6 +80,22 @@ TEST(PlacementFile, RoundTrips) {
   EXPECT_TRUE(parse_device(elliptic_text, "x.json").muscles[kFlexor].wrap_surface.circular());
   EXPECT_EQ(device_to_json(parse_device(elliptic_text, "x.json")), elliptic_text);
   EXPECT_EQ(text.find("wrap_aspect"), std::string::npos);
+  // A muscle's own fPAM against the table (r0_scale, eps_max_shift; written only when not the table's), which the
+  // muscle's law (what its plugin holds) and its analytic torque use.
+  DeviceDescription own_fpam = d;
+  own_fpam.muscles[kRadial].fpam_radius_scale = 1.02;
+  own_fpam.muscles[kRadial].fpam_max_contraction_shift = -0.004;
+  const std::string own_text = device_to_json(own_fpam);
+  const DeviceDescription own_read = parse_device(own_text, "x.json");
+  EXPECT_DOUBLE_EQ(own_read.muscles[kRadial].fpam_radius_scale, 1.02);
+  EXPECT_DOUBLE_EQ(own_read.muscles[kRadial].fpam_max_contraction_shift, -0.004);
+  EXPECT_EQ(device_to_json(own_read), own_text);
+  EXPECT_EQ(text.find("r0_scale"), std::string::npos);
+  EXPECT_EQ(text.find("eps_max_shift"), std::string::npos);
+  EXPECT_DOUBLE_EQ(own_read.muscle(kRadial).fpam.at_pressure(0.0).radius, 1.02 * d.fpam.at_pressure(0.0).radius);
+  EXPECT_DOUBLE_EQ(own_read.muscle(kRadial).fpam.at_pressure(0.0).max_contraction,
+                   d.fpam.at_pressure(0.0).max_contraction - 0.004);
+  EXPECT_DOUBLE_EQ(own_read.muscle(kUlnar).fpam.at_pressure(0.0).radius, d.fpam.at_pressure(0.0).radius);
   // An ellipse whose semi-axis along the forearm (3.7 cm) is longer than the ulnar hand mount's distance from O (3.54
   // cm, Table RoM) loads: the mount would meet it at 62.5 deg of radial deviation, beyond the deviation's reach (54.1
   // deg, muscle_reach); with the deviation's limits at 60 deg (reach 75 deg), it is refused.
@@ -134,6 +150,9 @@ TEST(PlacementFile, MalformedFilesNameTheFieldAndProblem) {
       {with([](auto& j) { j["muscles"]["flexor"]["wrap_centre_x_cm"] = 5; }),
        "muscles: flexor: the hand mount comes inside the wrist surface within +-95.9 deg"},
       {with([](auto& j) { j["muscles"]["flexor"]["wrap_aspect"] = 9; }), "muscles.flexor: wrap surface aspect"},
+      {with([](auto& j) { j["muscles"]["radial"]["r0_scale"] = -1; }), "muscles.radial.r0_scale: must be > 0"},
+      {with([](auto& j) { j["muscles"]["radial"]["eps_max_shift"] = 0.3; }),
+       "muscles.radial: max_contraction eps_max = 0.4"},
       {with([](auto& j) { j["muscles"]["flexor"]["d1"] = 3; }), "muscles.flexor.d1: unknown field"},
       {with([](auto& j) { j["fpam"]["table"][4]["eps_max"] = 0.9; }), "fpam.table: max_contraction"},
       {with([](auto& j) { j["fpam"]["table"][1].erase("r0_cm"); }), "fpam.table[1].r0_cm: missing"},
