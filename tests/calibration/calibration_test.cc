@@ -16,6 +16,7 @@
 #include "sim/model.h"
 #include "sim/model_builder.h"
 #include "sim/plugins.h"
+#include "support/end_to_end_test.h"
 
 namespace softwrist::calibration {
 namespace {
@@ -69,7 +70,13 @@ double parameter(const Calibration& c, const std::string& effect, const std::str
 // docs/calibration.md states: the regulator's time constant within 5 %, the series mount stiffness within 20 %
 // (Eqn. fabric_stretching's two mounts in series: (1/sqrt(K1) + 1/sqrt(K2))^-2), the relaxed wrist's stiffness
 // within 10 %. The dead time seen from the host includes the link's few ms, so it is only bounded.
+//
+// Under the sanitizers it is skipped, as the end-to-end diagnoses are (calibrate_from_logs is one): it took 258 s
+// there, the sanitizer stage's longest test by 3.5 times. The routine's run stays under them through
+// InterruptedCalibration (the same routine, a fault 30 s in), the calibration's fit through the diagnosis's shorter
+// tests.
 TEST(RealisticCalibration, RecoversInjectedEffectsAndWritesALoadableCalibratedFile) {
+  SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const fs::path dir = fs::temp_directory_path() / ("softwrist_calibration_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const bridge::EmulatorConfig emulator = bridge::load_emulator_config(kSource / "experiments/emulator/realistic.json");
