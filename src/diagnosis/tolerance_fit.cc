@@ -267,17 +267,18 @@ struct Setup {
   // The effects in `without` keep their own catalogue parameters at the nominal.
   ModelVariant variant_at(const ModelVariant& nominal, std::span<const double> x,
                           std::span<const EffectId> without = {}) const {
+    const auto held = [&](EffectId id) { return std::find(without.begin(), without.end(), id) != without.end(); };
     ModelVariant v = nominal;
     std::vector<std::vector<double>> values = start;
     for (std::size_t k = 0; k < knobs.size(); ++k) {
       if (knobs[k].kind == KnobKind::kCatalogue) {
         values[knobs[k].effect][knobs[k].parameter] = x[k];
-      } else if (!knobs[k].owner || std::find(without.begin(), without.end(), *knobs[k].owner) == without.end()) {
+      } else if (!knobs[k].owner || !held(*knobs[k].owner)) {
         apply_knob(knobs[k], x[k], v);
       }
     }
     for (std::size_t e = 0; e < ids.size(); ++e) {
-      if (std::find(without.begin(), without.end(), ids[e]) == without.end()) apply_effect(ids[e], values[e], v);
+      if (!held(ids[e])) apply_effect(ids[e], values[e], v);
     }
     // The anchors and limits moved: each hand mount clear of its wrist surface over its reach, as a placement file's
     // (wrap_geometry checks it too, but only where it has a box of its own).
