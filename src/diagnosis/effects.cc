@@ -77,7 +77,9 @@ std::vector<EffectSpec> make_catalogue() {
        "the wrist the muscles wrap around has another radius, its centre lies off the joint's (Eqns. parameters2, "
        "length, tau2 about the wrist circle's centre, physics/torque_geometry.h: towards the hand, the palm and the "
        "ulna, each pair's circle moved alike), and it is an ellipse, longer or shorter along the forearm than across "
-       "it (aspect_scale times its aspect; in MuJoCo its equivalent circle, moved as the wrist turns)",
+       "it (aspect_scale times its aspect, the semi-axes' geometric mean kept at wrist_radius_scale times the radius: "
+       "across_scale and along_scale are the semi-axes' own; in MuJoCo its equivalent circle, moved as the wrist "
+       "turns)",
        {{"wrist_radius_scale", 0.5, 1.5, false, 1.0},
         {"centre_distal_mm", -10.0, 10.0, false, 0.0},
         {"centre_palmar_mm", -10.0, 10.0, false, 0.0},
@@ -163,6 +165,30 @@ bool ModelVariant::routed_as(sim::Routing routing) const {
 
 namespace {
 
+// wrap_geometry's part (apply_to_device). The surface's size and its shape apart: the semi-axes r_w s / sqrt(a) across
+// the forearm and r_w s sqrt(a) along it (s = wrist_radius_scale, a = aspect_scale), their geometric mean the circle's
+// r_w s. The base form (a = 1) fits the circle an ellipse's wraps are closest to; the extension then changes the shape
+// at that size. With the across axis as r_w s, an aspect > 1 from the base optimum pushed the surface along the
+// forearm into the hand mounts (infeasible) and the ellipse needed both parameters moved at once: the extension was
+// never adopted on the independent benchmark's seeds 16, 19 and 20.
+void apply_wrap_geometry(std::span<const double> values, sim::DeviceDescription& device) {
+  for (std::size_t i = 0; i < device.muscles.size(); ++i) {
+    sim::MuscleMount& m = device.muscles[i];
+    m.wrist_radius *= values[0] / std::sqrt(values[4]);
+    // Each muscle's y points to its own side: the flexor's palmar, the extensor's dorsal, the ulnar muscle's ulnar,
+    // the radial's radial (sim::kMuscleSides).
+    const double towards_side_mm = i == sim::kFlexor     ? values[2]
+                                   : i == sim::kExtensor ? -values[2]
+                                   : i == sim::kUlnar    ? values[3]
+                                                         : -values[3];
+    m.wrap_surface.x += units::mm_to_m(values[1]);
+    m.wrap_surface.y += units::mm_to_m(towards_side_mm);
+    m.wrap_surface.aspect *= values[4];
+    physics::validate(m.placement, m.wrist_radius, m.wrap_surface);
+  }
+  sim::check_hand_mount_clearance(device);
+}
+
 // The part of effect `id` that lives in a device description (placement file).
 void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDescription& device) {
   switch (id) {
@@ -207,21 +233,7 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       device.regulator.second_order_time = values[3];
       break;
     case EffectId::kWrapGeometry:
-      for (std::size_t i = 0; i < device.muscles.size(); ++i) {
-        sim::MuscleMount& m = device.muscles[i];
-        m.wrist_radius *= values[0];
-        // Each muscle's y points to its own side: the flexor's palmar, the extensor's dorsal, the ulnar muscle's
-        // ulnar, the radial's radial (sim::kMuscleSides).
-        const double towards_side_mm = i == sim::kFlexor     ? values[2]
-                                       : i == sim::kExtensor ? -values[2]
-                                       : i == sim::kUlnar    ? values[3]
-                                                             : -values[3];
-        m.wrap_surface.x += units::mm_to_m(values[1]);
-        m.wrap_surface.y += units::mm_to_m(towards_side_mm);
-        m.wrap_surface.aspect *= values[4];
-        physics::validate(m.placement, m.wrist_radius, m.wrap_surface);
-      }
-      sim::check_hand_mount_clearance(device);
+      apply_wrap_geometry(values, device);
       break;
     case EffectId::kPassiveWrist:
       device.wrist.stiffness_fe *= values[0];
@@ -298,6 +310,10 @@ std::vector<std::pair<std::string, double>> describe_values(EffectId id, std::sp
     apply_effect(id, values, variant);
     out.emplace_back("K1_n_per_cm2", variant.device.mount_stiffness.forearm / 1e4);
     out.emplace_back("K2_n_per_cm2", variant.device.mount_stiffness.hand / 1e4);
+  }
+  if (id == EffectId::kWrapGeometry) {  // the semi-axes' own scales (apply_to_device), as a caliper would read them
+    out.emplace_back("across_scale", values[0] / std::sqrt(values[4]));
+    out.emplace_back("along_scale", values[0] * std::sqrt(values[4]));
   }
   return out;
 }

@@ -942,10 +942,11 @@ TEST_F(DiagnosisTest, WristSurfaceNotACircleIsWrapGeometry) {
 
 // A wrist surface longer along the forearm and narrower across it than the nominal's circle (radius x 0.76, aspect
 // 1.7, as the independent generator's elliptical_section makes it at level 1), on the independent device's
-// placement, seen in a torque sweep (the search, not the tolerances, is what is tested): no extension level reaches
-// it from the nominal's radius, whose ellipse would hold the hand mounts (an infeasible start), nor from the base
-// form's optimum, a circle moved 4.4 mm towards the hand (before the extensions' levels were crossed with the base
-// parameters': unexplained, the aspect left at 1).
+// placement, seen in a torque sweep (the search, not the tolerances, is what is tested): with the aspect stretching
+// the surface along the forearm at the radius across it, no extension level reached it from the nominal's radius,
+// whose ellipse would hold the hand mounts (an infeasible start), nor from the base form's optimum, a circle moved
+// 4.4 mm towards the hand (unexplained, the aspect left at 1, before the extensions' levels were crossed with the
+// base parameters'). The aspect now changes the shape at the semi-axes' geometric mean (effects.cc).
 TEST_F(DiagnosisTest, AWristSurfaceLongAndNarrowIsWrapGeometryWithBothItsAxes) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const sim::DeviceDescription nominal =
@@ -963,7 +964,7 @@ TEST_F(DiagnosisTest, AWristSurfaceLongAndNarrowIsWrapGeometryWithBothItsAxes) {
   const EffectFit& f = fit_of(d, EffectId::kWrapGeometry);
   EXPECT_TRUE(f.extended);
   EXPECT_GT(f.shrink_fraction, 0.9);
-  EXPECT_NEAR(param(f, "wrist_radius_scale"), 0.76, 0.03);
+  EXPECT_NEAR(param(f, "across_scale"), 0.76, 0.03);
   // One muscle's sweep trades the aspect against the centre along the forearm (1.93 with it 5.9 mm towards the
   // elbow): longer along the forearm is what it fixes.
   EXPECT_GT(param(f, "aspect_scale"), 1.5);
