@@ -165,6 +165,15 @@ bool ModelVariant::routed_as(sim::Routing routing) const {
 
 namespace {
 
+// wrap_geometry's semi-axes, each over the nominal's radius: the size values[0], the aspect values[4]
+// (apply_wrap_geometry).
+struct SemiAxisScales {
+  double across, along;
+};
+SemiAxisScales semi_axis_scales(std::span<const double> values) {
+  return {.across = values[0] / std::sqrt(values[4]), .along = values[0] * std::sqrt(values[4])};
+}
+
 // wrap_geometry's part (apply_to_device). The surface's size and its shape apart: the semi-axes r_w s / sqrt(a) across
 // the forearm and r_w s sqrt(a) along it (s = wrist_radius_scale, a = aspect_scale), their geometric mean the circle's
 // r_w s. The base form (a = 1) fits the circle an ellipse's wraps are closest to; the extension then changes the shape
@@ -174,7 +183,7 @@ namespace {
 void apply_wrap_geometry(std::span<const double> values, sim::DeviceDescription& device) {
   for (std::size_t i = 0; i < device.muscles.size(); ++i) {
     sim::MuscleMount& m = device.muscles[i];
-    m.wrist_radius *= values[0] / std::sqrt(values[4]);
+    m.wrist_radius *= semi_axis_scales(values).across;
     // Each muscle's y points to its own side: the flexor's palmar, the extensor's dorsal, the ulnar muscle's ulnar,
     // the radial's radial (sim::kMuscleSides).
     const double towards_side_mm = i == sim::kFlexor     ? values[2]
@@ -311,9 +320,10 @@ std::vector<std::pair<std::string, double>> describe_values(EffectId id, std::sp
     out.emplace_back("K1_n_per_cm2", variant.device.mount_stiffness.forearm / 1e4);
     out.emplace_back("K2_n_per_cm2", variant.device.mount_stiffness.hand / 1e4);
   }
-  if (id == EffectId::kWrapGeometry) {  // the semi-axes' own scales (apply_to_device), as a caliper would read them
-    out.emplace_back("across_scale", values[0] / std::sqrt(values[4]));
-    out.emplace_back("along_scale", values[0] * std::sqrt(values[4]));
+  if (id == EffectId::kWrapGeometry) {  // the semi-axes' own scales, as a caliper would read them
+    const SemiAxisScales axes = semi_axis_scales(values);
+    out.emplace_back("across_scale", axes.across);
+    out.emplace_back("along_scale", axes.along);
   }
   return out;
 }
