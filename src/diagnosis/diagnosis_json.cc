@@ -93,6 +93,7 @@ nlohmann::json to_json(const Diagnosis& d) {
                           {"within_one_se_of_best", f.within_one_se_of_best},
                           {"train_error_before", f.train_error_before},
                           {"train_error_after", f.train_error_after},
+                          {"training_gap_after", f.training_gap_after},
                           {"evaluations", f.evaluations},
                           {"extended", f.extended},
                           {"within_tolerances", f.within_tolerances},

@@ -282,8 +282,11 @@ struct EffectObjective {
       r.coarse = [this](std::span<const double> u) { return residuals(u, Fidelity::kCoarse); };
     return r;
   }
-  UnitSums heldout_at(std::span<const double> u) const {
-    return problem.heldout_sums(predictions_with(problem, variant_at(u), spec, /*training_only=*/false, base.full));
+  // The held-out sums at `u`, and the training sums into `training` where given.
+  UnitSums heldout_at(std::span<const double> u, UnitSums* training = nullptr) const {
+    const Predictions full = predictions_with(problem, variant_at(u), spec, /*training_only=*/false, base.full);
+    if (training != nullptr) *training = problem.training_sums(full);
+    return problem.heldout_sums(full);
   }
 
   const GapProblem& problem;
@@ -296,7 +299,8 @@ struct EffectObjective {
 
 // `fit`'s values, training error, held-out error and its interval, at the unit-cube point `at`.
 void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoint& at, const UnitSums& after,
-            const sim::DeviceDescription& nominal, const DiagnosisOptions& options, std::uint64_t seed) {
+            const UnitSums& training_after, const sim::DeviceDescription& nominal, const DiagnosisOptions& options,
+            std::uint64_t seed) {
   fit.values = values_of(objective.spec, at.u);
   fit.params = describe_values(fit.id, fit.values, nominal);
   fit.train_error_after = at.training_error;
@@ -305,6 +309,8 @@ void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoin
   std::tie(fit.ci_low, fit.ci_high) =
       bootstrap_interval(objective.problem, objective.before, after, options.bootstrap, seed);
   fit.heldout_after_sums = after;
+  fit.training_after_sums = training_after;
+  fit.training_gap_after = objective.problem.training_gap(training_after);
 }
 
 }  // namespace
@@ -323,7 +329,7 @@ EffectSearch search_effect(const GapProblem& problem, EffectId id, const BaseMod
       search_base_form(objective.residual_functions(), objective.start_u, spec, options.max_evaluations);
   s.u = searched.u;
   s.training_error = searched.training_error;
-  s.heldout_after = objective.heldout_at(searched.u);
+  s.heldout_after = objective.heldout_at(searched.u, &s.training_after);
   return s;
 }
 
@@ -344,8 +350,8 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
     fit.train_error_after = fit.train_error_before;
     return fit;
   }
-  record(fit, objective, {.u = search.u, .training_error = search.training_error}, search.heldout_after, nominal,
-         options, seed);
+  record(fit, objective, {.u = search.u, .training_error = search.training_error}, search.heldout_after,
+         search.training_after, nominal, options, seed);
   return fit;
 }
 
@@ -365,10 +371,11 @@ bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base
       search_extensions(objective.residual_functions(), base_optimum, objective.start_u, spec,
                         search_budget(options.max_evaluations, spec.parameters.size()));
   if (!(extended.training_error < base_optimum.training_error)) return false;
-  const UnitSums after = objective.heldout_at(extended.u);
+  UnitSums training_after;
+  const UnitSums after = objective.heldout_at(extended.u, &training_after);
   const double se = paired_difference_se(problem, fit.heldout_after_sums, after, options.bootstrap, seed);
   if (!(problem.heldout_error(after) < fit.heldout_error_after - se)) return false;
-  record(fit, objective, extended, after, nominal, options, seed);
+  record(fit, objective, extended, after, training_after, nominal, options, seed);
   fit.extended = true;
   return true;
 }
@@ -383,6 +390,7 @@ std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& f
   }
   if (best == fits.size()) return best;
   std::size_t leader = best;
+  std::size_t best_trained = best;  // of those within one standard error, the lowest training gap
   for (std::size_t k = 0; k < fits.size(); ++k) {
     EffectFit& f = fits[k];
     if (!competes(f)) continue;
@@ -395,8 +403,13 @@ std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& f
     const EffectFit& l = fits[leader];
     const std::size_t fp = f.values.size() + f.base_parameters, lp = l.values.size() + l.base_parameters;
     if (fp < lp || (fp == lp && f.heldout_error_after < l.heldout_error_after)) leader = k;
+    if (f.training_gap_after < fits[best_trained].training_gap_after) best_trained = k;
   }
-  return leader;
+  if (leader == best_trained || !(options.training_separation_se > 0.0)) return leader;
+  const double se = paired_training_difference_se(problem, fits[leader].training_after_sums,
+                                                  fits[best_trained].training_after_sums, options.bootstrap, seed);
+  const double margin = fits[leader].training_gap_after - fits[best_trained].training_gap_after;
+  return margin > options.training_separation_se * se ? best_trained : leader;
 }
 
 bool joins_combination(const EffectFit& fit, bool interval_informative, const DiagnosisOptions& options) {

@@ -33,7 +33,11 @@ std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vect
 // 1984, Sec. 3.4.3, and Hastie, Tibshirani & Friedman 2009, Sec. 7.10), the one with the fewest parameters (those
 // fitted into its base included, EffectFit::base_parameters), then the lowest error; otherwise the lowest error. The
 // held-out error already charges an effect for fitting noise; the rule adds parsimony only among what the data cannot
-// separate. Records each fit's standard error and whether it is within one.
+// separate. Among those, the training part, which the fits were made on and which holds as many units, breaks the
+// tie where it tells them apart: the one with the lowest training gap leads instead where the fewest-parameter one's
+// lies more than DiagnosisOptions::training_separation_se paired bootstrap standard errors above it. A fit that barely
+// moves the part it was fitted on and gains on the held-out one compensates for something else. Records each fit's
+// standard error and whether it is within one.
 // Only fits that `eligible` accepts compete (all applicable ones when it is empty).
 std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& fits, const DiagnosisOptions& options,
                             std::uint64_t seed, const std::function<bool(const EffectFit&)>& eligible = {});
@@ -56,7 +60,7 @@ struct EffectSearch {
   bool applicable = false;
   std::vector<double> u;  // in the unit cube of the effect's parameters
   double training_error = 0.0;
-  UnitSums heldout_after;
+  UnitSums heldout_after, training_after;
   int evaluations = 0;
 };
 EffectSearch search_effect(const GapProblem& problem, EffectId id, const BaseModel& base,

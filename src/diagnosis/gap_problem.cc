@@ -57,7 +57,7 @@ std::vector<double> GapProblem::training_residuals(const Predictions& prediction
   return residuals;
 }
 
-UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
+UnitSums GapProblem::sums_of(const Predictions& predictions, bool heldout) const {
   UnitSums sums;
   for (std::size_t t = 0; t < trials_.size(); ++t) {
     const PreparedTrial& trial = trials_[t];
@@ -65,7 +65,7 @@ UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
     for (const auto& p : trial.points) units = std::max(units, p.unit + 1);
     std::vector<std::pair<double, int>> per_unit(static_cast<std::size_t>(units));
     for (std::size_t i = 0; i < trial.points.size(); ++i) {
-      if (!trial.points[i].heldout) continue;
+      if (trial.points[i].heldout != heldout) continue;
       auto& u = per_unit[static_cast<std::size_t>(trial.points[i].unit)];
       u.first += std::pow((trial.points[i].measured - predictions[t][i]) / trial.noise, 2);
       ++u.second;
@@ -75,9 +75,21 @@ UnitSums GapProblem::heldout_sums(const Predictions& predictions) const {
   return sums;
 }
 
+UnitSums GapProblem::heldout_sums(const Predictions& predictions) const { return sums_of(predictions, true); }
+
+UnitSums GapProblem::training_sums(const Predictions& predictions) const { return sums_of(predictions, false); }
+
 double GapProblem::heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights,
                                  const std::vector<bool>* only) const {
-  if (only == nullptr && !scored_.empty()) only = &scored_;
+  return systematic_error(sums, weights, only != nullptr || scored_.empty() ? only : &scored_);
+}
+
+double GapProblem::training_gap(const UnitSums& sums, const std::vector<std::vector<int>>* weights) const {
+  return systematic_error(sums, weights, nullptr);
+}
+
+double GapProblem::systematic_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights,
+                                    const std::vector<bool>* only) const {
   return mean_over_kinds(only, [&](std::size_t t) {
     double sum = 0.0;
     double n = 0.0;
@@ -90,12 +102,12 @@ double GapProblem::heldout_error(const UnitSums& sums, const std::vector<std::ve
   });
 }
 
-std::vector<std::vector<std::size_t>> GapProblem::heldout_units() const {
+std::vector<std::vector<std::size_t>> GapProblem::units_of(bool heldout) const {
   std::vector<std::vector<std::size_t>> units(trials_.size());
   for (std::size_t t = 0; t < trials_.size(); ++t) {
     std::set<std::size_t> seen;
     for (const auto& p : trials_[t].points) {
-      if (p.heldout) seen.insert(static_cast<std::size_t>(p.unit));
+      if (p.heldout == heldout) seen.insert(static_cast<std::size_t>(p.unit));
     }
     units[t].assign(seen.begin(), seen.end());
   }
@@ -118,11 +130,11 @@ double GapProblem::mean_over_kinds(const std::vector<bool>* only,
 
 namespace {
 
-// Calls `each(weights)` for `resamples` resamples of each trial's held-out units with replacement (weights[t][u]: how
-// often unit u of trial t was drawn), the same sequence for the same seed.
-void for_each_resample(const GapProblem& problem, int resamples, std::uint64_t seed, const UnitSums& shape,
+// Calls `each(weights)` for `resamples` resamples of each trial's `units` with replacement (weights[t][u]: how often
+// unit u of trial t was drawn), the same sequence for the same seed.
+void for_each_resample(const GapProblem& problem, const std::vector<std::vector<std::size_t>>& units, int resamples,
+                       std::uint64_t seed, const UnitSums& shape,
                        const std::function<void(const std::vector<std::vector<int>>&)>& each) {
-  const auto units = problem.heldout_units();
   std::mt19937_64 rng(seed);
   std::vector<std::vector<int>> weights(problem.size());
   for (int b = 0; b < resamples; ++b) {
@@ -157,18 +169,19 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
   // hold it, and a change that fits one held angle would have an interval above zero on that one alone.
   const bool conditioned = units_moved >= 2;
   std::vector<double> shrinks;
-  for_each_resample(problem, resamples, seed, before, [&](const std::vector<std::vector<int>>& weights) {
-    bool holds_a_moved_unit = !conditioned;
-    for (std::size_t t = 0; t < weights.size() && !holds_a_moved_unit; ++t) {
-      for (std::size_t u = 0; u < weights[t].size() && !holds_a_moved_unit; ++u)
-        holds_a_moved_unit = weights[t][u] > 0 && moved[t][u];
-    }
-    const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
-    // A resample without any gap (all its units where the model was already right), or without any unit the change
-    // moves, says nothing of the shrink: the interval is the shrink's given that the resample holds something to
-    // shrink.
-    if (e0 > 0.0 && holds_a_moved_unit) shrinks.push_back((e0 - e1) / e0);
-  });
+  for_each_resample(
+      problem, problem.heldout_units(), resamples, seed, before, [&](const std::vector<std::vector<int>>& weights) {
+        bool holds_a_moved_unit = !conditioned;
+        for (std::size_t t = 0; t < weights.size() && !holds_a_moved_unit; ++t) {
+          for (std::size_t u = 0; u < weights[t].size() && !holds_a_moved_unit; ++u)
+            holds_a_moved_unit = weights[t][u] > 0 && moved[t][u];
+        }
+        const double e0 = problem.heldout_error(before, &weights), e1 = problem.heldout_error(after, &weights);
+        // A resample without any gap (all its units where the model was already right), or without any unit the change
+        // moves, says nothing of the shrink: the interval is the shrink's given that the resample holds something to
+        // shrink.
+        if (e0 > 0.0 && holds_a_moved_unit) shrinks.push_back((e0 - e1) / e0);
+      });
   if (shrinks.empty()) return {0.0, 0.0};
   std::sort(shrinks.begin(), shrinks.end());
   const auto at = [&](double q) {
@@ -177,12 +190,16 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
   return {at(0.025), at(0.975)};
 }
 
-double paired_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
-                            std::uint64_t seed) {
+namespace {
+
+// The bootstrap standard error of error(a) - error(b) over paired resamples of `units`.
+double paired_se(const GapProblem& problem, const std::vector<std::vector<std::size_t>>& units, const UnitSums& a,
+                 const UnitSums& b, int resamples, std::uint64_t seed,
+                 const std::function<double(const UnitSums&, const std::vector<std::vector<int>>&)>& error) {
   double sum = 0.0, sum2 = 0.0;
   int n = 0;
-  for_each_resample(problem, resamples, seed, a, [&](const std::vector<std::vector<int>>& weights) {
-    const double d = problem.heldout_error(a, &weights) - problem.heldout_error(b, &weights);
+  for_each_resample(problem, units, resamples, seed, a, [&](const std::vector<std::vector<int>>& weights) {
+    const double d = error(a, weights) - error(b, weights);
     sum += d;
     sum2 += d * d;
     ++n;
@@ -190,6 +207,22 @@ double paired_difference_se(const GapProblem& problem, const UnitSums& a, const 
   if (n < 2) return 0.0;
   const double mean = sum / n;
   return std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1)));
+}
+
+}  // namespace
+
+double paired_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
+                            std::uint64_t seed) {
+  return paired_se(
+      problem, problem.heldout_units(), a, b, resamples, seed,
+      [&](const UnitSums& s, const std::vector<std::vector<int>>& w) { return problem.heldout_error(s, &w); });
+}
+
+double paired_training_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
+                                     std::uint64_t seed) {
+  return paired_se(
+      problem, problem.training_units(), a, b, resamples, seed,
+      [&](const UnitSums& s, const std::vector<std::vector<int>>& w) { return problem.training_gap(s, &w); });
 }
 
 }  // namespace softwrist::diagnosis

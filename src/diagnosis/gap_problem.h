@@ -43,12 +43,19 @@ class GapProblem {
   // The same as residuals, each weighted so that their sum of squares is training_error (for least squares).
   std::vector<double> training_residuals(const Predictions& predictions) const;
   UnitSums heldout_sums(const Predictions& predictions) const;
+  // The same sums over the training measurements (of predictions on all the data).
+  UnitSums training_sums(const Predictions& predictions) const;
   // The held-out error of unit sums, with each unit counted `weights[t][u]` times (1 for the data as it is); with
   // `only`, over the trials it marks; otherwise over the scored trials (set_scored), all by default.
   double heldout_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr,
                        const std::vector<bool>* only = nullptr) const;
-  // Units with held-out measurements, per trial, for the bootstrap.
-  std::vector<std::vector<std::size_t>> heldout_units() const;
+  // The training part's systematic residual, as heldout_error measures the held-out part but over every trial (the
+  // fits minimise the training error over every trial, and a model that leaves a trial the tolerances explain as it
+  // was has not accounted for it): of training_sums, each unit counted `weights[t][u]` times.
+  double training_gap(const UnitSums& sums, const std::vector<std::vector<int>>* weights = nullptr) const;
+  // Units with held-out (training) measurements, per trial, for the bootstrap.
+  std::vector<std::vector<std::size_t>> heldout_units() const { return units_of(true); }
+  std::vector<std::vector<std::size_t>> training_units() const { return units_of(false); }
 
   // The trials the held-out error is taken over from now on (the verdict: those with a gap beyond the tolerances).
   void set_scored(std::vector<bool> scored) { scored_ = std::move(scored); }
@@ -62,6 +69,10 @@ class GapProblem {
   ReplayEngine& engine() const { return engine_; }
 
  private:
+  UnitSums sums_of(const Predictions& predictions, bool heldout) const;
+  std::vector<std::vector<std::size_t>> units_of(bool heldout) const;
+  double systematic_error(const UnitSums& sums, const std::vector<std::vector<int>>* weights,
+                          const std::vector<bool>* only) const;
   double mean_over_kinds(const std::vector<bool>* only, const std::function<double(std::size_t)>& per_trial) const;
 
   std::vector<PreparedTrial>& trials_;
@@ -80,5 +91,8 @@ std::pair<double, double> bootstrap_interval(const GapProblem& problem, const Un
 // held-out units (paired): how far apart two models' held-out errors must lie before these data tell them apart.
 double paired_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
                             std::uint64_t seed);
+// The same of training_gap(a) - training_gap(b), resampling the training units of every trial.
+double paired_training_difference_se(const GapProblem& problem, const UnitSums& a, const UnitSums& b, int resamples,
+                                     std::uint64_t seed);
 
 }  // namespace softwrist::diagnosis

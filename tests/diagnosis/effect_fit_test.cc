@@ -1,11 +1,13 @@
 // Ranking the effects fitted in one round (diagnosis/effect_fit.h, leader_of_round): the one-standard-error rule
 // (Breiman, Friedman, Olshen & Stone 1984, Sec. 3.4.3; Hastie, Tibshirani & Friedman 2009, Sec. 7.10). A richer
 // effect leads when the held-out data tell its error from a simpler one's; when they do not, the simpler leads.
-// Held-out sums are made directly: 40 units of 25 measurements of unit noise, each unit with a systematic residual
-// that varies from unit to unit (as a model's error does from held angle to held angle).
+// Among what the held-out data cannot separate, the training part decides where it tells the fits apart. Held-out
+// (and training) sums are made directly: 40 units of 25 measurements of unit noise, each unit with a systematic
+// residual that varies from unit to unit (as a model's error does from held angle to held angle).
 
 #include "diagnosis/effect_fit.h"
 
+#include <cmath>
 #include <functional>
 #include <random>
 #include <vector>
@@ -21,7 +23,10 @@ class LeaderOfRound : public ::testing::Test {
  protected:
   LeaderOfRound() {
     for (int u = 0; u < kUnits; ++u) {
-      for (int i = 0; i < kPerUnit; ++i) sweep_.points.push_back(Point{.unit = u, .heldout = true});
+      for (int i = 0; i < kPerUnit; ++i) {
+        sweep_.points.push_back(Point{.unit = u, .heldout = true});
+        sweep_.points.push_back(Point{.unit = u, .heldout = false});
+      }
     }
     trials_.push_back(sweep_);
   }
@@ -46,10 +51,13 @@ class LeaderOfRound : public ::testing::Test {
     return sums(mean, spread, [&](int) { return normal(rng_); });
   }
 
-  EffectFit fit(const char* name, std::size_t parameters, UnitSums s) {
+  EffectFit fit(const char* name, std::size_t parameters, UnitSums s, UnitSums training = {}) {
     EffectFit f{.name = name, .values = std::vector<double>(parameters, 0.0)};
     f.heldout_error_after = problem_.heldout_error(s);
     f.heldout_after_sums = std::move(s);
+    if (training.per_trial.empty()) training = sums(0.5, 0.0);  // every fit alike on the training part
+    f.training_gap_after = problem_.training_gap(training);
+    f.training_after_sums = std::move(training);
     return f;
   }
 
@@ -87,6 +95,28 @@ TEST_F(LeaderOfRound, WhatTheDataCannotSeparateGoesToTheSimplerEffect) {
   // Without the rule the lower error leads, whatever its parameters.
   options_.one_se_rule = false;
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), best);
+}
+
+// What the held-out part cannot separate, the training part can: the richer effect fits it with a systematic residual
+// of 0.4 noise units where the simpler leaves 1.5, far beyond two paired standard errors, and leads. Where the training
+// part does not separate them either (0.8 and 0.85, patterns of their own), the simpler leads as before; and so with
+// the training part's say turned off.
+TEST_F(LeaderOfRound, TheTrainingPartBreaksATieTheHeldOutPartLeaves) {
+  const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
+  const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
+  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs), sums(0.4, 0.3, alternate)),
+                                 fit("simple", 1, sums(0.8, 0.3, alternate), sums(1.5, 0.3, pairs))};
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
+  EXPECT_TRUE(fits[0].within_one_se_of_best && fits[1].within_one_se_of_best);
+  fits[0].training_after_sums = sums(0.8, 0.3, alternate);
+  fits[0].training_gap_after = problem_.training_gap(fits[0].training_after_sums);
+  fits[1].training_after_sums = sums(0.85, 0.3, pairs);
+  fits[1].training_gap_after = problem_.training_gap(fits[1].training_after_sums);
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
+  fits[1].training_after_sums = sums(1.5, 0.3, pairs);
+  fits[1].training_gap_after = problem_.training_gap(fits[1].training_after_sums);
+  options_.training_separation_se = 0.0;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
 }
 
 // A fit from the nominal within its tolerances carries the tolerance fit's parameters (EffectFit::base_parameters):
@@ -156,6 +186,22 @@ TEST(BootstrapInterval, ResamplesHoldingNoUnitTheChangeMovesSayNothing) {
   // A change that moves every unit: the moved-unit condition leaves every resample in.
   const auto [all_low, all_high] = bootstrap_interval(problem, before, sums({1.0, 1.0, 4.0, 4.0}), 2000, 3);
   EXPECT_GT(all_low, 0.0) << "interval " << all_low << " to " << all_high;
+}
+
+// The training gap is taken over every trial, the held-out error over the scored ones: a model that leaves a trial the
+// tolerances explain (not scored) 3 noise units off answers for it on the training part (GapProblem::training_gap).
+TEST(TrainingGap, CountsEveryTrialWhateverIsScored) {
+  Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+  PreparedTrial sweep{.trial = &trial, .name = "sweep", .unit = "N m", .noise = 1.0};
+  sweep.points = {Point{.unit = 0, .heldout = false}, Point{.unit = 1, .heldout = true}};
+  std::vector<PreparedTrial> trials = {sweep, sweep};
+  ReplayEngine engine{sim::PluginSet::Default()};
+  GapProblem problem{trials, engine};
+  const Predictions predictions = {{1.0, 0.0}, {3.0, 3.0}};  // measured 0: the first trial 1 and 0 off, the second 3
+  problem.set_scored({true, false});
+  EXPECT_DOUBLE_EQ(problem.heldout_error(problem.heldout_sums(predictions)), 0.0);
+  // sqrt(max(0, 1 - 1)) = 0 and sqrt(9 - 1), averaged over the two trials of the one kind.
+  EXPECT_DOUBLE_EQ(problem.training_gap(problem.training_sums(predictions)), 0.5 * std::sqrt(8.0));
 }
 
 }  // namespace
