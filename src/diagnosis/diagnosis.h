@@ -70,7 +70,7 @@ struct DiagnosisOptions {
   // Among the fits the held-out part cannot tell apart, the training part decides where it can: a fit whose training
   // gap (GapProblem::training_gap) lies this many paired bootstrap standard errors below the fewest-parameter one's
   // leads instead (leader_of_round). 2 (about a two-sided 95 % test) was set before any run, not calibrated. The
-  // fewest parameters alone let a relaxed wrist that cut the training error of dahl_friction-21 5 % lead a hysteresis
+  // fewest parameters alone let a relaxed wrist that cut the training error of dahl_friction-21 14 % lead a hysteresis
   // that cut it 82 % and predicted the held-out part as well (41 parameters with the tolerances against 42). 0: off.
   double training_separation_se = 2.0;
   double min_gain = 0.1;  // an effect joins the combination if it cuts the held-out error by this fraction
