@@ -55,10 +55,13 @@ class LeaderOfRound : public ::testing::Test {
     EffectFit f{.name = name, .values = std::vector<double>(parameters, 0.0)};
     f.heldout_error_after = problem_.heldout_error(s);
     f.heldout_after_sums = std::move(s);
-    if (training.per_trial.empty()) training = sums(0.5, 0.0);  // every fit alike on the training part
+    set_training(f, training.per_trial.empty() ? sums(0.5, 0.0) : std::move(training));  // default: every fit alike
+    return f;
+  }
+  // `f`'s training sums and the training gap they give.
+  void set_training(EffectFit& f, UnitSums training) {
     f.training_gap_after = problem_.training_gap(training);
     f.training_after_sums = std::move(training);
-    return f;
   }
 
   std::mt19937_64 rng_{7};
@@ -108,13 +111,10 @@ TEST_F(LeaderOfRound, TheTrainingPartBreaksATieTheHeldOutPartLeaves) {
                                  fit("simple", 1, sums(0.8, 0.3, alternate), sums(1.5, 0.3, pairs))};
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
   EXPECT_TRUE(fits[0].within_one_se_of_best && fits[1].within_one_se_of_best);
-  fits[0].training_after_sums = sums(0.8, 0.3, alternate);
-  fits[0].training_gap_after = problem_.training_gap(fits[0].training_after_sums);
-  fits[1].training_after_sums = sums(0.85, 0.3, pairs);
-  fits[1].training_gap_after = problem_.training_gap(fits[1].training_after_sums);
+  set_training(fits[0], sums(0.8, 0.3, alternate));
+  set_training(fits[1], sums(0.85, 0.3, pairs));
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
-  fits[1].training_after_sums = sums(1.5, 0.3, pairs);
-  fits[1].training_gap_after = problem_.training_gap(fits[1].training_after_sums);
+  set_training(fits[1], sums(1.5, 0.3, pairs));
   options_.training_separation_se = 0.0;
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
 }
