@@ -84,6 +84,8 @@ struct RealData {
 std::vector<int> clusters(const std::vector<double>& values, double gap);
 // [deg] held angles further apart than this are different set angles (a held angle's own jitter is smaller).
 inline constexpr double kHeldAngleGapDeg = 2.5;
+// [kPa] a sweep's pressure levels further apart than this are different levels (a regulated level's jitter is smaller).
+inline constexpr double kSweepLevelGapKpa = 5.0;
 
 // Every log (a <name>.json sidecar of format softwrist.log/1 beside its <name>.csv) under `dir`, recursively, in
 // path order. Logs of kinds without measurements to compare (design optimization) are listed as problems; a CSV

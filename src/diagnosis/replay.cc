@@ -184,9 +184,13 @@ PreparedTrial prepare_sweep(const Trial& trial) {
   Ids<std::tuple<int, int, long>> conditions;   // ... of one condition, for the noise (estimate_noise)
   Ids<std::pair<int, int>> units;
   for (const auto& [muscle, rows] : by_muscle) {
-    std::vector<double> angles;
-    for (std::size_t i : rows) angles.push_back(rad_to_deg(trial.sweep[i].angle));
+    std::vector<double> angles, pressures_kpa;
+    for (std::size_t i : rows) {
+      angles.push_back(rad_to_deg(trial.sweep[i].angle));
+      pressures_kpa.push_back(pa_to_kpa(trial.sweep[i].pressure));
+    }
     const std::vector<int> cluster = clusters(angles, kHeldAngleGapDeg);
+    const std::vector<int> level = clusters(pressures_kpa, kSweepLevelGapKpa);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const SweepPoint& s = trial.sweep[rows[k]];
       Point& point = p.points[rows[k]];
@@ -200,7 +204,10 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       const bool defined_zero = trial.conventions.torque.baseline_subtracted && s.pressure == 0.0;
       point.condition = defined_zero ? -1 : conditions({muscle, cluster[k], std::lround(point.pressure_kpa)});
       point.unit = units({muscle, cluster[k]});
-      point.heldout = cluster[k] % 2 == 1;  // every other held angle
+      // Held out as a checkerboard: every other pressure level at each held angle, the other levels at the next
+      // angle. Every held angle is a bootstrap unit with points on both sides (every other angle, as before, left
+      // four units per muscle, one the end of the range, and fits that moved the angles in between untested).
+      point.heldout = (cluster[k] + level[k]) % 2 == 1;
       point.repetition = s.repetition;
     }
   }

@@ -7,6 +7,7 @@
 #include "diagnosis/replay.h"
 
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -335,6 +336,30 @@ TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
   const PreparedTrial p = prepared_sweep(1.0, 0.5);
   EXPECT_EQ(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
   EXPECT_LT(p.noise, 0.2);
+}
+
+// The sweep's held-out part is a checkerboard of held angle and pressure level (replay.cc, prepare_sweep): every held
+// angle, a bootstrap unit, has points in both parts, and the parity follows the level, not the regulator's jitter.
+TEST_F(AlternatingSweepNoise, HeldOutAsACheckerboardOfAngleAndPressureLevel) {
+  Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
+  for (const int repetition : {1, 2})
+    for (int a = 0; a < 4; ++a)
+      for (int p = 0; p < 5; ++p)
+        trial.sweep.push_back({.angle = units::deg_to_rad(-30.0 + 20.0 * a + 0.3 * repetition),
+                               .pressure = units::kpa_to_pa(34.0 * p + (p > 0 ? 1.5 * ((a + repetition) % 3) : 0.0)),
+                               .torque = 0.1,
+                               .repetition = repetition});
+  data_.trials = {trial};
+  const PreparedTrial prepared = prepare(data_, engine_, ModelVariant{.device = sim::paper_device()}).at(0);
+  std::map<int, std::pair<int, int>> held_and_kept;  // per unit
+  for (std::size_t i = 0; i < prepared.points.size(); ++i) {
+    const int a = static_cast<int>(i / 5) % 4, level = static_cast<int>(i % 5);
+    EXPECT_EQ(prepared.points[i].heldout, (a + level) % 2 == 1) << "angle " << a << ", level " << level;
+    (prepared.points[i].heldout ? held_and_kept[prepared.points[i].unit].first
+                                : held_and_kept[prepared.points[i].unit].second)++;
+  }
+  EXPECT_EQ(held_and_kept.size(), 4u);
+  for (const auto& [unit, counts] : held_and_kept) EXPECT_TRUE(counts.first > 0 && counts.second > 0) << unit;
 }
 
 // A range of motion whose angles were zeroed between conditions, read in the log's order (ReplayEngine::predict_rom):
