@@ -404,8 +404,11 @@ TEST_F(DiagnosisTest, OneMusclesAnchorWithinItsToleranceIsNone) {
   EXPECT_EQ(within.verdict, "none") << within.reason;
   std::map<std::string, double> fitted(within.tolerance.params.begin(), within.tolerance.params.end());
   const double d2_cm = 100.0 * device.muscles[sim::kUlnar].placement.d2;
-  // Within 1 mm: the anchor's d2 trades with its w2 and the muscle's L0, which the data tell apart only partly.
-  EXPECT_NEAR(fitted.at("model.ulnar.d2_cm"), d2_cm - 0.2, 0.1);
+  // Nearer the wrist, by at least half the shift: the anchor's d2 trades with its w2 and the muscle's L0, which the
+  // data tell apart only partly, and the fit ends beyond the truth, at the box's edge or near it (0.715 cm with every
+  // other held angle of the sweep held out, 0.700 cm with the checkerboard; the real anchor at 0.8 cm, the nominal 1).
+  EXPECT_LT(fitted.at("model.ulnar.d2_cm"), d2_cm - 0.1);
+  EXPECT_GE(fitted.at("model.ulnar.d2_cm"), d2_cm - 0.3 - 1e-9);  // the 3 mm tolerance
   // The flexor's anchor, placed as the nominal, trades with its L0 alike: differenced on coarse replays (Fidelity)
   // the fit ends at d2 8.351 cm and L0 32.06 cm with a training error of 0.75838, differenced on fine ones at 8.301
   // and 31.99 cm with 0.75854 (d2 8.30 cm placed). Within the same 1 mm.
