@@ -196,7 +196,7 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       Point& point = p.points[rows[k]];
       point.measured = s.torque;
       point.angle_deg = angles[k];
-      point.pressure_kpa = pa_to_kpa(s.pressure);
+      point.pressure_kpa = pressures_kpa[k];
       point.muscle = muscle;
       point.motion = s.motion;
       point.group = groups({muscle, cluster[k], std::lround(point.pressure_kpa), s.motion});
@@ -205,7 +205,7 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       point.condition = defined_zero ? -1 : conditions({muscle, cluster[k], std::lround(point.pressure_kpa)});
       point.unit = units({muscle, cluster[k]});
       // Held out as a checkerboard: every other pressure level at each held angle, the other levels at the next
-      // angle. Every held angle is a bootstrap unit with points on both sides (every other angle, as before, left
+      // angle. Every held angle is a bootstrap unit with points in both parts (every other angle, as before, left
       // four units per muscle, one the end of the range, and fits that moved the angles in between untested).
       point.heldout = (cluster[k] + level[k]) % 2 == 1;
       point.repetition = s.repetition;
