@@ -850,16 +850,10 @@ double excess_of_base(const Diagnosis& d, const TrialGap& t) {
   return on_tolerances ? t.excess_within_tolerance : t.excess_nominal;
 }
 
-// A named effect is not the cause where the data contradict it: the gap drifts between the repetitions of a
-// condition (drift.h), which no constant property of the device closes, or the corrected model misses a trial the
-// nominal matched (DiagnosisOptions::contradiction_gap), both as placed and as the base the effect was added to. A
-// miss the base already had is the tolerance fit's trade between trials, not the effect's (the independent device's
-// seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap, was added to a tolerance fit that had
-// moved the ellipses' angle trials from 0.0-0.6 noise units as placed to 2.8-3.9, for the range of motion; the
-// corrected model missed them by as much, and a regulator does not move a trajectory replayed from its measured
-// pressures).
-void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
-  if (d.verdict == "none" || d.verdict == "unexplained") return;
+// What says that the device changed during the session, which no constant property of it explains, whatever the
+// verdict as fitted: the gap drifts between the repetitions of a condition (drift.h), or a sweep's repeats disagree
+// at one setting far more than at the others (setting_change.h).
+std::vector<std::string> device_changes(const Diagnosis& d) {
   std::vector<std::string> why;
   for (const TrialDrift& t : d.drift) {
     if (!t.significant) continue;
@@ -869,9 +863,34 @@ void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& option
         "repetition {} over {} conditions (t = {:.1f})",
         t.experiment, t.last_repetition, t.shift, t.first_repetition, t.conditions, t.t));
   }
+  for (const SettingChange& c : d.setting_changes) {
+    if (!c.significant) continue;
+    why.push_back(fmt::format(
+        "the device changed during one setting, which no constant property of it explains (a strap that slips, a "
+        "band re-seated, a plate knocked): {}: the {} at {:.1f} deg, where repetitions {} and {} differ by amounts "
+        "that scatter {:.3g} {} ({:.2f} noise units) from pressure to pressure, {:.0f} times the variance at the "
+        "median of the other {} settings",
+        c.experiment, c.muscle, c.angle_deg, c.first_repetition, c.last_repetition, c.spread, c.unit,
+        c.spread_noise_units, c.ratio, c.settings - 1));
+  }
+  return why;
+}
+
+// Neither a named effect nor the nominal is the account where the device changed during the session
+// (device_changes), whatever the verdict as fitted. A named effect is not the cause either where the data contradict
+// it: the corrected model misses a trial the nominal matched (DiagnosisOptions::contradiction_gap), both as placed and
+// as the base the effect was added to. A
+// miss the base already had is the tolerance fit's trade between trials, not the effect's (the independent device's
+// seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap, was added to a tolerance fit that had
+// moved the ellipses' angle trials from 0.0-0.6 noise units as placed to 2.8-3.9, for the range of motion; the
+// corrected model missed them by as much, and a regulator does not move a trajectory replayed from its measured
+// pressures).
+void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
+  if (d.verdict == "unexplained") return;
+  std::vector<std::string> why = device_changes(d);
   for (const TrialGap& t : d.trials) {
-    if (t.excess_nominal < options.min_gap && excess_of_base(d, t) < options.min_gap && t.remaining_significant &&
-        t.excess_corrected >= options.contradiction_gap)
+    if (d.verdict != "none" && t.excess_nominal < options.min_gap && excess_of_base(d, t) < options.min_gap &&
+        t.remaining_significant && t.excess_corrected >= options.contradiction_gap)
       why.push_back(
           fmt::format("{} contradicts {}: the nominal matched it ({:.2f} noise units), the corrected model "
                       "misses it by {:.2f}",
@@ -883,16 +902,16 @@ void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& option
   d.also_effects.clear();
 }
 
-// An effect outside the catalogue is reported (`unexplained`) only on a gap that evidences one: a gap that drifts
-// between repetitions (drift.h), or some gap trial left at least contradiction_gap noise units off by the nominal
+// An effect outside the catalogue is reported (`unexplained`) only on a gap that evidences one: a device that changed
+// during the session (device_changes), or some gap trial left at least contradiction_gap noise units off by the nominal
 // within its tolerances, the level at which a trial's residual contradicts a named effect
 // (unexplained_where_contradicted). A smaller residual that no catalogue effect closes is the model's own inexactness,
 // and the verdict is `none`, the residual named (the independent device's nominal, seeds 9 and 10: its tensile test
 // 1.0-1.3 noise units off over 1689 points within the tolerances, which no effect closed).
 void none_without_evidence(Diagnosis& d, const DiagnosisOptions& options) {
   if (d.verdict != "unexplained") return;
-  // A gap that drifts over the session evidences an effect whatever its size (drift.h).
-  if (std::any_of(d.drift.begin(), d.drift.end(), [](const TrialDrift& t) { return t.significant; })) return;
+  // A device that changed during the session evidences an effect whatever the gap's size.
+  if (!device_changes(d).empty()) return;
   const bool within = !d.tolerance.params.empty();
   const TrialGap* largest = nullptr;
   double largest_left = 0.0;
@@ -1016,6 +1035,7 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
+  d.setting_changes = change_at_one_setting(d.prepared, d.corrected_predictions);
   redecide(d, options);
 }
 

@@ -75,6 +75,29 @@ nlohmann::json drift_json(const TrialDrift& t) {
           {"significant", t.significant}};
 }
 
+nlohmann::json setting_change_json(const SettingChange& c) {
+  return {{"experiment", c.experiment},
+          {"muscle", c.muscle},
+          {"angle_deg", c.angle_deg},
+          {"settings", c.settings},
+          {"conditions", c.conditions},
+          {"first_repetition", c.first_repetition},
+          {"last_repetition", c.last_repetition},
+          {"spread", c.spread},
+          {"unit", c.unit},
+          {"spread_noise_units", c.spread_noise_units},
+          {"ratio", c.ratio},
+          {"significant", c.significant}};
+}
+
+// A JSON array of `to_entry` of each element.
+template <typename T, typename F>
+nlohmann::json array_of(const std::vector<T>& values, F&& to_entry) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const T& v : values) out.push_back(to_entry(v));
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
@@ -133,10 +156,8 @@ nlohmann::json to_json(const Diagnosis& d) {
       j["runners_up_beyond_tolerance"].push_back(beyond_tolerance_json(b, false));
   }
   j["tolerance"] = tolerance_json(d.tolerance);
-  j["effects"] = nlohmann::json::array();
-  for (const auto& f : d.effects) j["effects"].push_back(effect_json(f));
-  j["combination"] = nlohmann::json::array();
-  for (const auto& f : d.combination) j["combination"].push_back(effect_json(f));
+  j["effects"] = array_of(d.effects, effect_json);
+  j["combination"] = array_of(d.combination, effect_json);
   j["localization"] = nlohmann::json::array();
   for (const auto& e : d.localization) {
     nlohmann::json entry{{"experiment", e.experiment},
@@ -149,12 +170,12 @@ nlohmann::json to_json(const Diagnosis& d) {
                          {"count", e.count}};
     j["localization"].push_back(entry);
   }
-  j["trials"] = nlohmann::json::array();
-  for (const auto& t : d.trials) j["trials"].push_back(trial_json(t));
-  j["drift"] = nlohmann::json::array();
-  for (const auto& t : d.drift) j["drift"].push_back(drift_json(t));
-  j["skipped"] = nlohmann::json::array();
-  for (const auto& p : d.problems) j["skipped"].push_back({{"file", p.file}, {"reason", p.reason}});
+  j["trials"] = array_of(d.trials, trial_json);
+  j["drift"] = array_of(d.drift, drift_json);
+  j["setting_change"] = array_of(d.setting_changes, setting_change_json);
+  j["skipped"] = array_of(d.problems, [](const FileProblem& p) {
+    return nlohmann::json{{"file", p.file}, {"reason", p.reason}};
+  });
   return j;
 }
 
