@@ -879,12 +879,11 @@ std::vector<std::string> device_changes(const Diagnosis& d) {
 // Neither a named effect nor the nominal is the account where the device changed during the session
 // (device_changes), whatever the verdict as fitted. A named effect is not the cause either where the data contradict
 // it: the corrected model misses a trial the nominal matched (DiagnosisOptions::contradiction_gap), both as placed and
-// as the base the effect was added to. A
-// miss the base already had is the tolerance fit's trade between trials, not the effect's (the independent device's
-// seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap, was added to a tolerance fit that had
-// moved the ellipses' angle trials from 0.0-0.6 noise units as placed to 2.8-3.9, for the range of motion; the
-// corrected model missed them by as much, and a regulator does not move a trajectory replayed from its measured
-// pressures).
+// as the base the effect was added to. A miss the base already had is the tolerance fit's trade between trials, not
+// the effect's (the independent device's seed 12: a regulator's dead time and rate limit, 78 % of the pressures' gap,
+// was added to a tolerance fit that had moved the ellipses' angle trials from 0.0-0.6 noise units as placed to
+// 2.8-3.9, for the range of motion; the corrected model missed them by as much, and a regulator does not move a
+// trajectory replayed from its measured pressures).
 void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
   if (d.verdict == "unexplained") return;
   std::vector<std::string> why = device_changes(d);

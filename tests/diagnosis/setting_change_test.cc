@@ -64,17 +64,17 @@ Case sweep(const SweepResiduals& r, std::uint64_t seed) {
 // each tripped the test; a setting twice as noisy as the others trips it in 0.4 % of seeds, three times in 9 %).
 TEST(SettingChange, NoneWhereTheDeviceStaysTheSame) {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-    for (const SweepResiduals& r : {SweepResiduals{}, SweepResiduals{.seat = 5 * kNoise},
-                                    SweepResiduals{.seat = 2 * kNoise, .hysteresis = 10 * kNoise},
-                                    SweepResiduals{.steep = 1.5}}) {
+    for (const SweepResiduals& r :
+         {SweepResiduals{}, SweepResiduals{.seat = 5 * kNoise},
+          SweepResiduals{.seat = 2 * kNoise, .hysteresis = 10 * kNoise}, SweepResiduals{.steep = 1.5}}) {
       const Case c = sweep(r, seed);
       const auto changes = change_at_one_setting(c.prepared, c.predictions);
       ASSERT_EQ(changes.size(), 1u);
       EXPECT_EQ(changes[0].settings, kAnglesDeg.size());
       EXPECT_EQ(changes[0].first_repetition, 1);
       EXPECT_EQ(changes[0].last_repetition, 2);
-      EXPECT_FALSE(changes[0].significant) << "seed " << seed << ": ratio " << changes[0].ratio << " at "
-                                           << changes[0].angle_deg << " deg";
+      EXPECT_FALSE(changes[0].significant)
+          << "seed " << seed << ": ratio " << changes[0].ratio << " at " << changes[0].angle_deg << " deg";
     }
   }
 }
