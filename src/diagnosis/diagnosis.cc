@@ -885,10 +885,10 @@ std::vector<std::string> device_changes(const Diagnosis& d) {
 // 2.8-3.9, for the range of motion; the corrected model missed them by as much, and a regulator does not move a
 // trajectory replayed from its measured pressures).
 void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& options) {
-  if (d.verdict == "unexplained") return;
   std::vector<std::string> why = device_changes(d);
+  const bool named = d.verdict != "none" && d.verdict != "unexplained";
   for (const TrialGap& t : d.trials) {
-    if (d.verdict != "none" && t.excess_nominal < options.min_gap && excess_of_base(d, t) < options.min_gap &&
+    if (named && t.excess_nominal < options.min_gap && excess_of_base(d, t) < options.min_gap &&
         t.remaining_significant && t.excess_corrected >= options.contradiction_gap)
       why.push_back(
           fmt::format("{} contradicts {}: the nominal matched it ({:.2f} noise units), the corrected model "
@@ -896,7 +896,9 @@ void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& option
                       d.verdict, t.experiment, t.excess_nominal, t.excess_corrected));
   }
   if (why.empty()) return;
-  d.reason = fmt::format("{}; as fitted, {}", fmt::join(why, "; "), d.reason);
+  // Already `unexplained` (a change also keeps none_without_evidence from reading a small gap as the model's
+  // inexactness): the change leads the reason all the same.
+  d.reason = fmt::format("{}; {}{}", fmt::join(why, "; "), d.verdict == "unexplained" ? "" : "as fitted, ", d.reason);
   d.verdict = "unexplained";
   d.also_effects.clear();
 }
