@@ -1036,7 +1036,11 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
   d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
-  d.setting_changes = change_at_one_setting(d.prepared, d.corrected_predictions);
+  // On the nominal's residuals, not the corrected model's: a fitted hysteresis starts the log on one branch and turns
+  // over the first setting, a transient of the model's own that reads as a change there (a sweep scaled 1 -+ h by
+  // side, SweepReachedFromBothSidesShowsHysteresis: 41 times the other settings' variance); the nominal as placed has
+  // no state, so both repetitions of a condition replay alike and the differences are the readings' own.
+  d.setting_changes = change_at_one_setting(d.prepared, d.nominal_predictions);
   redecide(d, options);
 }
 

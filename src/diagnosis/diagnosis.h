@@ -260,8 +260,9 @@ struct Diagnosis {
   // Per trial with repetitions: whether the corrected model's residual drifts from the first to the last (drift.h).
   // A drift that a constant effect cannot close makes the verdict `unexplained`.
   std::vector<TrialDrift> drift;
-  // Per torque sweep with repetitions: whether its repeats disagree at one setting far more than at the others
-  // (setting_change.h), a device that changed part-way through the session; the verdict is then `unexplained`.
+  // Per torque sweep with repetitions: whether its repeats disagree at one setting far more than at the others, on
+  // the nominal's residuals (setting_change.h), a device that changed part-way through the session; the verdict is
+  // then `unexplained`.
   std::vector<SettingChange> setting_changes;
   ToleranceFit tolerance;  // the nominal within its tolerances: what decides which trials have a gap
   std::vector<LocalizationEntry> localization;

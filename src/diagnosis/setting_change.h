@@ -6,11 +6,12 @@
 // time the tension beats its grip, a re-seated band or a knocked plate changes the device part-way through one
 // setting instead: there the repeat difference varies from one pressure to the next far more than at the others.
 //
-// Per condition (Point::condition) measured in the first and the last repetition, the difference of the corrected
-// model's residuals (last - first); per setting (Point::unit), the variance of those differences about the setting's
-// own mean, which the hand's seat does not move. The setting whose variance is largest is compared with the median of
-// the other settings' (robust to a second odd setting, and to the unloaded settings whose differences are the sensor's
-// noise alone as long as they are not the majority).
+// Per condition (Point::condition) measured in the first and the last repetition, the difference of a stateless
+// model's residuals (last - first; the diagnosis passes the nominal's, so that a fitted hysteresis's own start-up
+// transient is not read as a change); per setting (Point::unit), the variance of those differences about the
+// setting's own mean, which the hand's seat does not move. The setting whose variance is largest is compared with the
+// median of the other settings' (robust to a second odd setting, and to the unloaded settings whose differences are the
+// sensor's noise alone as long as they are not the majority).
 
 #include <cstddef>
 #include <string>
