@@ -962,6 +962,17 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
 }
 
 // The diagnosis with the trials prepared (d.prepared) and the nominal routed (apply_routing).
+// The evidence that the device changed during the session (device_changes): the corrected model's residuals drifting
+// between repetitions, and a sweep's repeats disagreeing at one setting on the nominal's residuals. The nominal's, not
+// the corrected model's: a fitted hysteresis starts the log on one branch and turns over the first setting, a
+// transient of the model's own that reads as a change there (a sweep scaled 1 -+ h by side,
+// SweepReachedFromBothSidesShowsHysteresis: 41 times the other settings' variance); the nominal as placed has no
+// state, so both repetitions of a condition replay alike and the differences are the readings' own.
+void test_for_device_changes(Diagnosis& d) {
+  d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
+  d.setting_changes = change_at_one_setting(d.prepared, d.nominal_predictions);
+}
+
 void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nominal,
                        const DiagnosisOptions& options) {
   const sim::DeviceDescription& nominal_device = nominal.device;
@@ -1035,12 +1046,7 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
     }
   }
   measure_correction(d, problem, nominal_full, d.corrected_predictions, trial_alpha);
-  d.drift = drift_across_repetitions(d.prepared, d.corrected_predictions);
-  // On the nominal's residuals, not the corrected model's: a fitted hysteresis starts the log on one branch and turns
-  // over the first setting, a transient of the model's own that reads as a change there (a sweep scaled 1 -+ h by
-  // side, SweepReachedFromBothSidesShowsHysteresis: 41 times the other settings' variance); the nominal as placed has
-  // no state, so both repetitions of a condition replay alike and the differences are the readings' own.
-  d.setting_changes = change_at_one_setting(d.prepared, d.nominal_predictions);
+  test_for_device_changes(d);
   redecide(d, options);
 }
 
