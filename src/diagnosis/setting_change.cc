@@ -71,10 +71,14 @@ SettingChange test_settings(const PreparedTrial& trial, const std::map<int, Sett
   if (variances.size() < std::max<std::size_t>(options.min_settings, 2)) return out;
   const auto largest = std::max_element(variances.begin(), variances.end(),
                                         [](const auto& a, const auto& b) { return a.first < b.first; });
+  // The other settings whose repeats differ at all: a setting that reads the same to the last digit twice (an unloaded
+  // angle through a coarse sensor) says nothing of the noise, and a majority of them would make any change infinite.
   std::vector<double> others;
   for (auto it = variances.begin(); it != variances.end(); ++it) {
-    if (it != largest) others.push_back(it->first);
+    if (it != largest && it->first > 0.0) others.push_back(it->first);
   }
+  out.settings = others.size() + 1;
+  if (out.settings < std::max<std::size_t>(options.min_settings, 2)) return out;
   const double reference = median(others);
   const int muscle = largest->second->muscle;
   if (muscle >= 0 && muscle < static_cast<int>(sim::kMuscleNames.size()))
@@ -84,7 +88,7 @@ SettingChange test_settings(const PreparedTrial& trial, const std::map<int, Sett
   out.spread = std::sqrt(largest->first);
   out.spread_noise_units = out.spread / trial.noise;
   out.unit = trial.unit;
-  out.ratio = reference > 0.0 ? largest->first / reference : (largest->first > 0.0 ? INFINITY : 0.0);
+  out.ratio = largest->first / reference;
   out.significant = out.ratio >= options.min_ratio;
   return out;
 }

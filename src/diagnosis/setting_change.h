@@ -23,9 +23,11 @@ namespace softwrist::diagnosis {
 
 struct SettingChange {
   std::string experiment;
-  std::string muscle;          // the setting's muscle
-  double angle_deg = 0.0;      // the held angle of the setting whose repeats disagree most
-  std::size_t settings = 0;    // settings with enough conditions measured in both repetitions
+  std::string muscle;      // the setting's muscle
+  double angle_deg = 0.0;  // the held angle of the setting whose repeats disagree most
+  // Settings with enough conditions measured in both repetitions, and (once that setting is found) whose repeats
+  // differ at all, that setting included.
+  std::size_t settings = 0;
   std::size_t conditions = 0;  // conditions at that setting
   int first_repetition = 0, last_repetition = 0;
   // Standard deviation of that setting's repeat differences about their mean, in the trial's unit and in noise units

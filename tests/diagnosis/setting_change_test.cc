@@ -102,7 +102,8 @@ TEST(SettingChange, AStrapThatSlipsDuringTheFirstSettingIsFoundThere) {
   }
 }
 
-// Too few settings for a median of the others, a single repetition, or no conditions (not a sweep): not tested.
+// Too few settings for a median of the others, a single repetition, no conditions (not a sweep), or too few settings
+// whose repeats differ at all: not tested.
 TEST(SettingChange, NotTestedWithoutSettingsToCompare) {
   Case c = sweep({.slip = 10 * kNoise}, 1);
   std::erase_if(c.prepared[0].points, [](const Point& p) { return p.unit >= 3; });
@@ -119,6 +120,16 @@ TEST(SettingChange, NotTestedWithoutSettingsToCompare) {
   c = sweep({.slip = 10 * kNoise}, 1);
   for (Point& p : c.prepared[0].points) p.condition = -1;
   EXPECT_TRUE(change_at_one_setting(c.prepared, c.predictions).empty());
+
+  // Readings that repeat to the last digit at five settings (unloaded angles through a coarse sensor) say nothing of
+  // the noise: a hysteresis at the other three is not a change at one of them (their median would be 0).
+  c = sweep({}, 1);
+  for (Point& p : c.prepared[0].points)
+    p.measured = p.unit < 3 && p.repetition == 2 ? 10 * kNoise * (p.pressure_kpa / 137.0) * (1.0 + 0.1 * p.unit) : 0.0;
+  changes = change_at_one_setting(c.prepared, c.predictions);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].settings, 3u);
+  EXPECT_FALSE(changes[0].significant);
 }
 
 }  // namespace
