@@ -107,14 +107,20 @@ std::vector<SettingChange> change_at_one_setting(const std::vector<PreparedTrial
     }
     if (repetitions.size() < 2 || !(trial.noise > 0.0)) continue;
     const int first = *repetitions.begin(), last = *repetitions.rbegin();
-    std::map<int, Setting> settings;
+    // Each muscle's settings apart: a stronger muscle's repeats differ more at every setting (a hysteresis scales with
+    // its pull), which against a weaker one's median would read as a change.
+    std::map<int, std::map<int, Setting>> by_muscle;
     for (const auto& [condition, c] : repeats_by_condition(trial, predictions[t], first, last)) {
       if (c.first.count == 0 || c.last.count == 0) continue;
-      Setting& s = settings[c.setting];
+      Setting& s = by_muscle[c.muscle][c.setting];
       s.differences.push_back(c.last.mean() - c.first.mean());
       s.muscle = c.muscle, s.angle_deg = c.angle_deg;
     }
-    SettingChange change = test_settings(trial, settings, options);
+    SettingChange change{.experiment = trial.name};
+    for (const auto& [muscle, settings] : by_muscle) {
+      const SettingChange own = test_settings(trial, settings, options);
+      if (own.ratio > change.ratio || (change.settings == 0 && own.settings > 0)) change = own;
+    }
     change.first_repetition = first, change.last_repetition = last;
     out.push_back(change);
   }

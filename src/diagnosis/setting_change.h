@@ -10,8 +10,9 @@
 // model's residuals (last - first; the diagnosis passes the nominal's, so that a fitted hysteresis's own start-up
 // transient is not read as a change); per setting (Point::unit), the variance of those differences about the
 // setting's own mean, which the hand's seat does not move. The setting whose variance is largest is compared with the
-// median of the other settings' (robust to a second odd setting, and to the unloaded settings whose differences are the
-// sensor's noise alone as long as they are not the majority).
+// median of the other settings' of the same muscle (robust to a second odd setting, and to the unloaded settings whose
+// differences are the sensor's noise alone as long as they are not the majority); a sweep of several muscles reports
+// the muscle whose ratio is largest.
 
 #include <cstddef>
 #include <string>

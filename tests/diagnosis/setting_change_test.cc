@@ -102,6 +102,34 @@ TEST(SettingChange, AStrapThatSlipsDuringTheFirstSettingIsFoundThere) {
   }
 }
 
+// A sweep of two muscles, the second with no loop, the first with a hysteresis of 20 noise units: each muscle's
+// settings are compared with its own, so the first's loaded settings are no change (against a median taken over both
+// muscles' settings they read 27-58 times it, 18 of the 20 seeds tripped); a slip at the first muscle's first setting,
+// under a hysteresis of 5, is found there.
+TEST(SettingChange, EachMuscleAgainstItsOwnSettings) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    for (const SweepResiduals& r :
+         {SweepResiduals{.hysteresis = 20 * kNoise}, SweepResiduals{.hysteresis = 5 * kNoise, .slip = 30 * kNoise}}) {
+      Case c = sweep(r, seed);
+      const Case weak = sweep({}, seed + 100);
+      const int conditions = static_cast<int>(c.prepared[0].points.size());
+      for (Point p : weak.prepared[0].points) {
+        p.muscle = 2, p.unit += 100, p.condition += conditions;
+        c.prepared[0].points.push_back(p);
+      }
+      c.predictions[0].resize(c.prepared[0].points.size(), 0.0);
+      const auto changes = change_at_one_setting(c.prepared, c.predictions);
+      ASSERT_EQ(changes.size(), 1u);
+      EXPECT_EQ(changes[0].significant, r.slip > 0.0) << "seed " << seed << ": ratio " << changes[0].ratio << " at the "
+                                                      << changes[0].muscle << " " << changes[0].angle_deg << " deg";
+      if (r.slip > 0.0) {
+        EXPECT_EQ(changes[0].muscle, "flexor");
+        EXPECT_EQ(changes[0].angle_deg, kAnglesDeg[0]);
+      }
+    }
+  }
+}
+
 // Too few settings for a median of the others, a single repetition, no conditions (not a sweep), or too few settings
 // whose repeats differ at all: not tested.
 TEST(SettingChange, NotTestedWithoutSettingsToCompare) {
