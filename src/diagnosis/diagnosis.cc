@@ -961,7 +961,6 @@ void decide_verdict(Diagnosis& d, const DiagnosisOptions& options) {
   none_without_evidence(d, options);
 }
 
-// The diagnosis with the trials prepared (d.prepared) and the nominal routed (apply_routing).
 // The evidence that the device changed during the session (device_changes): the corrected model's residuals drifting
 // between repetitions, and a sweep's repeats disagreeing at one setting on the nominal's residuals. The nominal's, not
 // the corrected model's: a fitted hysteresis starts the log on one branch and turns over the first setting, a
@@ -973,6 +972,7 @@ void test_for_device_changes(Diagnosis& d) {
   d.setting_changes = change_at_one_setting(d.prepared, d.nominal_predictions);
 }
 
+// The diagnosis with the trials prepared (d.prepared) and the nominal routed (apply_routing).
 void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nominal,
                        const DiagnosisOptions& options) {
   const sim::DeviceDescription& nominal_device = nominal.device;

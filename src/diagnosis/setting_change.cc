@@ -55,11 +55,11 @@ double median(std::vector<double> values) {
 
 struct Setting {
   std::vector<double> differences;
-  int muscle = -1;
   double angle_deg = 0.0;
 };
 
-SettingChange test_settings(const PreparedTrial& trial, const std::map<int, Setting>& settings,
+// One muscle's settings: the one whose repeat differences vary most against the median of the others'.
+SettingChange test_settings(const PreparedTrial& trial, int muscle, const std::map<int, Setting>& settings,
                             const SettingChangeOptions& options) {
   SettingChange out{.experiment = trial.name};
   std::vector<std::pair<double, const Setting*>> variances;
@@ -80,7 +80,6 @@ SettingChange test_settings(const PreparedTrial& trial, const std::map<int, Sett
   out.settings = others.size() + 1;
   if (out.settings < std::max<std::size_t>(options.min_settings, 2)) return out;
   const double reference = median(others);
-  const int muscle = largest->second->muscle;
   if (muscle >= 0 && muscle < static_cast<int>(sim::kMuscleNames.size()))
     out.muscle = sim::kMuscleNames[static_cast<std::size_t>(muscle)];
   out.angle_deg = largest->second->angle_deg;
@@ -114,11 +113,11 @@ std::vector<SettingChange> change_at_one_setting(const std::vector<PreparedTrial
       if (c.first.count == 0 || c.last.count == 0) continue;
       Setting& s = by_muscle[c.muscle][c.setting];
       s.differences.push_back(c.last.mean() - c.first.mean());
-      s.muscle = c.muscle, s.angle_deg = c.angle_deg;
+      s.angle_deg = c.angle_deg;
     }
     SettingChange change{.experiment = trial.name};
     for (const auto& [muscle, settings] : by_muscle) {
-      const SettingChange own = test_settings(trial, settings, options);
+      const SettingChange own = test_settings(trial, muscle, settings, options);
       if (own.ratio > change.ratio || (change.settings == 0 && own.settings > 0)) change = own;
     }
     change.first_repetition = first, change.last_repetition = last;
