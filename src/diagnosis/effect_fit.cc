@@ -84,6 +84,14 @@ std::vector<std::size_t> parameter_indices(const EffectSpec& spec, bool extensio
   return indices;
 }
 
+// The parameters `fit` moved, as the one-standard-error rule counts them: its base form's, and its extensions where
+// they were kept (EffectFit::extended). An extension held at its neutral value is no freedom the fit used; counted, an
+// effect lost ties for slots it never fitted (the mounts' three extensions made their one stiffness four).
+std::size_t fitted_parameters(const EffectFit& fit) {
+  const EffectSpec& spec = effect_spec(fit.id);
+  return fit.extended ? spec.parameters.size() : parameter_indices(spec, /*extensions=*/false).size();
+}
+
 // Levenberg-Marquardt on the training residuals from `from` within the unit cube. The training error is a sum of
 // squares, and its Gauss-Newton model follows the valleys where one parameter trades against another (the fPAM's
 // fabric against its r0): BOBYQA, which models the error as a quadratic from 2n + 1 samples, spent its whole budget of
@@ -404,7 +412,7 @@ std::size_t leader_of_round(const GapProblem& problem, std::vector<EffectFit>& f
     f.within_one_se_of_best = f.heldout_error_after <= fits[best].heldout_error_after + f.se_of_difference_to_best;
     if (!options.one_se_rule || !f.within_one_se_of_best) continue;
     const EffectFit& l = fits[leader];
-    const std::size_t fp = f.values.size() + f.base_parameters, lp = l.values.size() + l.base_parameters;
+    const std::size_t fp = fitted_parameters(f) + f.base_parameters, lp = fitted_parameters(l) + l.base_parameters;
     if (fp < lp || (fp == lp && f.heldout_error_after < l.heldout_error_after)) leader = k;
     if (f.training_gap_after < fits[best_trained].training_gap_after) best_trained = k;
   }

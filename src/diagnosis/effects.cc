@@ -7,6 +7,7 @@
 #include "physics/errors.h"
 #include "physics/paper_parameters.h"
 #include "physics/plausible_ranges.h"
+#include "physics/relaxed_wrist.h"
 #include "physics/units.h"
 
 namespace softwrist::diagnosis {
@@ -31,6 +32,27 @@ EffectSpec regulator_lag_spec() {
        {"rom_residual_fraction", 0.0, 0.9, false, 0.0, /*extension=*/false, /*separable=*/true}},
       {K::kRangeOfMotion, K::kTrajectory},
       /*through_regulators_only=*/true};
+}
+
+// The relaxed wrist's; its own function for the catalogue's length.
+EffectSpec passive_wrist_spec() {
+  return {EffectId::kPassiveWrist,
+          "passive_wrist",
+          "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal, and stiffens towards its "
+          "limits (physics/relaxed_wrist.h: added torque at each limit); and, as extensions, its stiffness differs "
+          "between the axes and towards either side of each (ulnar/radial over flexion/extension a multiple of the "
+          "nominal's ratio; the asymmetry a, k (1 + a) towards flexion or ulnar deviation, k (1 - a) the other way, "
+          "added to the nominal's): passive wrist stiffness is anisotropic (Formica et al., J Neurophysiol 108:1158, "
+          "2012), which one scale of both axes cannot follow from one task to another",
+          {{"stiffness_scale", 0.1, 10.0, true, 1.0},
+           {"damping_scale", 0.1, 10.0, true, 1.0},
+           {"limit_stiffening_nm", 0.0, 6.0, false, 0.0},
+           {"deviation_stiffness_ratio", 0.25, 4.0, true, 1.0, /*extension=*/true},
+           {"asymmetry_fe", -physics::kMaxStiffnessAsymmetry, physics::kMaxStiffnessAsymmetry, false, 0.0,
+            /*extension=*/true},
+           {"asymmetry_ur", -physics::kMaxStiffnessAsymmetry, physics::kMaxStiffnessAsymmetry, false, 0.0,
+            /*extension=*/true}},
+          {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}};  // sweeps whose reading includes the relaxed wrist
 }
 
 std::vector<EffectSpec> make_catalogue() {
@@ -86,14 +108,7 @@ std::vector<EffectSpec> make_catalogue() {
         {"centre_ulnar_mm", -10.0, 10.0, false, 0.0},
         {"aspect_scale", 0.5, 2.0, true, 1.0, /*extension=*/true}},
        {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},
-      {EffectId::kPassiveWrist,
-       "passive_wrist",
-       "the relaxed wrist is stiffer or softer, and more or less damped, than the nominal, and stiffens towards its "
-       "limits (physics/relaxed_wrist.h: added torque at each limit)",
-       {{"stiffness_scale", 0.1, 10.0, true, 1.0},
-        {"damping_scale", 0.1, 10.0, true, 1.0},
-        {"limit_stiffening_nm", 0.0, 6.0, false, 0.0}},
-       {K::kTorqueSweep, K::kRangeOfMotion, K::kTrajectory}},  // sweeps whose reading includes the relaxed wrist
+      passive_wrist_spec(),
       {EffectId::kImuBias,
        "imu_bias",
        "the IMU pair's angles carry an offset, arrive late, and are turned about the forearm's axis (an IMU "
@@ -246,10 +261,14 @@ void apply_to_device(EffectId id, std::span<const double> values, sim::DeviceDes
       break;
     case EffectId::kPassiveWrist:
       device.wrist.stiffness_fe *= values[0];
-      device.wrist.stiffness_ur *= values[0];
+      device.wrist.stiffness_ur *= values[0] * values[3];
       device.wrist.damping_fe *= values[1];
       device.wrist.damping_ur *= values[1];
       device.wrist.limit_stiffening.torque += values[2];
+      for (auto [asymmetry, added] : {std::pair{&device.wrist.stiffness_asymmetry_fe, values[4]},
+                                      {&device.wrist.stiffness_asymmetry_ur, values[5]}}) {
+        *asymmetry = std::clamp(*asymmetry + added, -physics::kMaxStiffnessAsymmetry, physics::kMaxStiffnessAsymmetry);
+      }
       break;
     case EffectId::kHysteresis:  // the fabric's (physics/fpam_hysteresis.h), on every data kind the force acts in
       device.hysteresis = {.fraction = values[0],
