@@ -18,6 +18,7 @@ namespace softwrist::diagnosis {
 namespace {
 
 constexpr int kUnits = 40, kPerUnit = 25;
+constexpr EffectId kOne = EffectId::kMountStretch, kFour = EffectId::kHysteresis;  // base forms of 1 and 4 parameters
 
 class LeaderOfRound : public ::testing::Test {
  protected:
@@ -51,8 +52,10 @@ class LeaderOfRound : public ::testing::Test {
     return sums(mean, spread, [&](int) { return normal(rng_); });
   }
 
-  EffectFit fit(const char* name, std::size_t parameters, UnitSums s, UnitSums training = {}) {
-    EffectFit f{.name = name, .values = std::vector<double>(parameters, 0.0)};
+  // A fit of effect `id` in its base form (the rule counts its parameters: fitted_parameters): the mounts' one
+  // stiffness, the hysteresis's four.
+  EffectFit fit(const char* name, EffectId id, UnitSums s, UnitSums training = {}) {
+    EffectFit f{.id = id, .name = name, .values = std::vector<double>(effect_spec(id).parameters.size(), 0.0)};
     f.heldout_error_after = problem_.heldout_error(s);
     f.heldout_after_sums = std::move(s);
     set_training(f, training.per_trial.empty() ? sums(0.5, 0.0) : std::move(training));  // default: every fit alike
@@ -74,7 +77,7 @@ class LeaderOfRound : public ::testing::Test {
 };
 
 TEST_F(LeaderOfRound, ARicherEffectTheDataPreferLeads) {
-  std::vector<EffectFit> fits = {fit("simple", 1, sums(1.0, 0.3)), fit("rich", 4, sums(0.3, 0.3))};
+  std::vector<EffectFit> fits = {fit("simple", kOne, sums(1.0, 0.3)), fit("rich", kFour, sums(0.3, 0.3))};
   ASSERT_LT(fits[1].heldout_error_after, fits[0].heldout_error_after);
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
   EXPECT_FALSE(fits[0].within_one_se_of_best) << fits[0].se_of_difference_to_best;
@@ -85,8 +88,9 @@ TEST_F(LeaderOfRound, WhatTheDataCannotSeparateGoesToTheSimplerEffect) {
   // The same data and the same mean square error; where each model errs differs from unit to unit by 0.3.
   const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
   const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
-  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs)), fit("simple", 1, sums(0.8, 0.3, alternate)),
-                                 fit("inapplicable", 0, sums(0.0, 0.0))};
+  std::vector<EffectFit> fits = {fit("rich", kFour, sums(0.8, 0.3, pairs)),
+                                 fit("simple", kOne, sums(0.8, 0.3, alternate)),
+                                 fit("inapplicable", kOne, sums(0.0, 0.0))};
   fits[2].applicable = false;  // never the leader
   const std::size_t best = fits[0].heldout_error_after < fits[1].heldout_error_after ? 0 : 1;
   const std::size_t other = 1 - best;
@@ -107,8 +111,8 @@ TEST_F(LeaderOfRound, WhatTheDataCannotSeparateGoesToTheSimplerEffect) {
 TEST_F(LeaderOfRound, TheTrainingPartBreaksATieTheHeldOutPartLeaves) {
   const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
   const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
-  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs), sums(0.4, 0.3, alternate)),
-                                 fit("simple", 1, sums(0.8, 0.3, alternate), sums(1.5, 0.3, pairs))};
+  std::vector<EffectFit> fits = {fit("rich", kFour, sums(0.8, 0.3, pairs), sums(0.4, 0.3, alternate)),
+                                 fit("simple", kOne, sums(0.8, 0.3, alternate), sums(1.5, 0.3, pairs))};
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
   EXPECT_TRUE(fits[0].within_one_se_of_best && fits[1].within_one_se_of_best);
   set_training(fits[0], sums(0.8, 0.3, alternate));
@@ -125,10 +129,26 @@ TEST_F(LeaderOfRound, TheTrainingPartBreaksATieTheHeldOutPartLeaves) {
 TEST_F(LeaderOfRound, TheBasesParametersCountInTheRule) {
   const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
   const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
-  std::vector<EffectFit> fits = {fit("as placed", 4, sums(0.8, 0.3, pairs)),
-                                 fit("within the tolerances", 1, sums(0.8, 0.3, alternate))};
+  std::vector<EffectFit> fits = {fit("as placed", kFour, sums(0.8, 0.3, pairs)),
+                                 fit("within the tolerances", kOne, sums(0.8, 0.3, alternate))};
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);  // as the test above: the one-parameter effect
   fits[1].base_parameters = 31;
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
+}
+
+// The rule counts the parameters a fit moved: an extension only where it was kept (EffectFit::extended). Unextended,
+// the mounts' fit is one stiffness and leads a four-parameter hysteresis the data cannot tell from it, though its
+// held-out error is a little higher; with its three extensions kept it has four too, and the lower error leads.
+// (Counting every slot, the mounts had four either way.)
+TEST_F(LeaderOfRound, AnExtensionCountsOnlyWhereItWasKept) {
+  const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
+  const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
+  std::vector<EffectFit> fits = {fit("hysteresis", kFour, sums(0.8, 0.3, pairs)),
+                                 fit("mounts", kOne, sums(0.82, 0.3, alternate))};
+  ASSERT_GT(fits[1].heldout_error_after, fits[0].heldout_error_after);
+  EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);
+  EXPECT_TRUE(fits[1].within_one_se_of_best) << fits[1].se_of_difference_to_best;
+  fits[1].extended = true;
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), 0u);
 }
 
@@ -138,7 +158,8 @@ TEST_F(LeaderOfRound, TheBasesParametersCountInTheRule) {
 TEST_F(LeaderOfRound, TheSingleFitsLeaderIsOneThatJoinsTheCombination) {
   const auto pairs = [](int u) { return (u / 2) % 2 ? -1.0 : 1.0; };
   const auto alternate = [](int u) { return u % 2 ? -1.0 : 1.0; };
-  std::vector<EffectFit> fits = {fit("rich", 4, sums(0.8, 0.3, pairs)), fit("simple", 1, sums(0.8, 0.3, alternate))};
+  std::vector<EffectFit> fits = {fit("rich", kFour, sums(0.8, 0.3, pairs)),
+                                 fit("simple", kOne, sums(0.8, 0.3, alternate))};
   ASSERT_EQ(leader_of_round(problem_, fits, options_, 1), 1u);              // the simpler, as above
   EXPECT_EQ(leader_of_single_fits(problem_, fits, options_, 1, true), 1u);  // neither cuts anything
   fits[0].shrink_fraction = 0.6;
@@ -152,7 +173,7 @@ TEST_F(LeaderOfRound, TheSingleFitsLeaderIsOneThatJoinsTheCombination) {
 }
 
 TEST_F(LeaderOfRound, NoneApplicableIsNoLeader) {
-  std::vector<EffectFit> fits = {fit("a", 1, sums(0.5, 0.1))};
+  std::vector<EffectFit> fits = {fit("a", kOne, sums(0.5, 0.1))};
   fits[0].applicable = false;
   EXPECT_EQ(leader_of_round(problem_, fits, options_, 1), fits.size());
 }
