@@ -4,7 +4,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <set>
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include <fmt/format.h>
 
@@ -58,45 +62,166 @@ struct RepeatSpread {
   int units = 0;             // distinct 4 s units of one trial
 };
 
+// Each repetition's nominal residuals less the repetitions' mean, over the rows all of them have: d[k][c * rows + i]
+// for member k of the set, channel c, row i.
+struct Deviations {
+  int channels = 0;
+  std::size_t rows = 0;
+  std::vector<std::vector<double>> d;
+};
+
+Deviations deviations_of(const std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals,
+                         const std::vector<std::size_t>& set) {
+  Deviations dev{.channels = trials[set.front()].pressures ? 4 : 2, .rows = rows_of(trials[set.front()])};
+  for (std::size_t t : set) dev.rows = std::min(dev.rows, rows_of(trials[t]));
+  const double k = static_cast<double>(set.size());
+  dev.d.assign(set.size(), std::vector<double>(static_cast<std::size_t>(dev.channels) * dev.rows));
+  for (std::size_t c = 0; c < static_cast<std::size_t>(dev.channels); ++c) {
+    for (std::size_t i = 0; i < dev.rows; ++i) {
+      double mean = 0.0;
+      for (std::size_t t : set) mean += residuals[t][c * rows_of(trials[t]) + i] / k;
+      for (std::size_t j = 0; j < set.size(); ++j) {
+        dev.d[j][c * dev.rows + i] = residuals[set[j]][c * rows_of(trials[set[j]]) + i] - mean;
+      }
+    }
+  }
+  return dev;
+}
+
+// [s] The commands' lags that predict a regulator's response: every row up to 50 ms, then every 50 ms up to 2 s, many
+// times the nominal QB3's 0.06 s time constant and the seconds of a slow vent or an underdamped second-order response.
+constexpr double kCommandLagStep = 0.05, kCommandLagMax = 2.0;
+
+// Pressures only: removes from the deviations what the same muscle's command deviations predict (least squares on
+// their values 0-2 s before, one response per muscle for all repetitions), and returns the coefficients fitted.
+// Repetitions of a closed-loop task differ in their commands; a regulator that differs from the model answers each
+// with its own error, which is the model's, not the monitor's noise (seed 32's second-order regulator: a
+// repeat-to-repeat spread of 0.55 kPa where the monitors' noise is 0.15). The monitors read the regulators and feed no
+// controller, so their noise is independent of the commands and stays; the angles' noise does not (the controller
+// answers the IMUs' wander, so the commands' deviations carry it), and their deviations are left whole.
+int remove_command_response(const std::vector<PreparedTrial>& trials, const std::vector<std::size_t>& set,
+                            Deviations& dev) {
+  const auto& first = trials[set.front()].trial->trajectory;
+  if (dev.rows < 2) return 0;
+  const double dt = (first[dev.rows - 1].t - first.front().t) / static_cast<double>(dev.rows - 1);
+  if (!(dt > 0.0)) return 0;
+  // Lag bins [edges[b], edges[b + 1]) rows: one row each over the first step (a regulator's quick response), then a
+  // step each; a bin's regressor is the commands' mean over it, so that the response is a kernel constant over each
+  // bin (a closed-loop command changes from row to row, and a kernel sampled once per bin would miss that).
+  const auto step = static_cast<std::size_t>(std::max(1.0, std::round(kCommandLagStep / dt)));
+  const auto last = static_cast<std::size_t>(std::round(kCommandLagMax / dt));
+  std::vector<std::size_t> edges;
+  for (std::size_t l = 0; l <= last + 1; l += l < step ? 1 : step) edges.push_back(l);
+  const std::size_t bins = edges.size() - 1;
+  const std::size_t k = set.size(), rows = dev.rows;
+  int fitted = 0;
+  for (std::size_t m = 0; m < 4; ++m) {
+    Eigen::MatrixXd commands(k, rows);
+    for (std::size_t j = 0; j < k; ++j) {
+      for (std::size_t i = 0; i < rows; ++i) commands(j, i) = trials[set[j]].trial->trajectory[i].command_kpa[m];
+    }
+    commands.rowwise() -= commands.colwise().mean();
+    Eigen::MatrixXd x(k * rows, bins);
+    Eigen::VectorXd y(k * rows);
+    for (std::size_t j = 0; j < k; ++j) {
+      // sum[i]: the deviations of rows before i, the first row's held before the log (the trial's start state)
+      std::vector<double> sum(rows + 1, 0.0);
+      for (std::size_t i = 0; i < rows; ++i) sum[i + 1] = sum[i] + commands(j, i);
+      const auto before = [&](std::ptrdiff_t i) {  // the sum of the rows before row i, i <= 0 counting the first
+        return i >= 0 ? sum[static_cast<std::size_t>(i)] : static_cast<double>(i) * commands(j, 0);
+      };
+      for (std::size_t i = 0; i < rows; ++i) {
+        y(j * rows + i) = dev.d[j][m * rows + i];
+        for (std::size_t b = 0; b < bins; ++b) {  // rows i - edges[b + 1] + 1 .. i - edges[b]
+          const auto hi = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b]);
+          const auto lo = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b + 1]);
+          x(j * rows + i, b) = (before(hi) - before(lo)) / static_cast<double>(edges[b + 1] - edges[b]);
+        }
+      }
+    }
+    if (!(x.squaredNorm() > 0.0)) continue;  // the same commands every time: nothing to predict
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
+    const Eigen::VectorXd left = y - x * qr.solve(y);
+    for (std::size_t j = 0; j < k; ++j) {
+      for (std::size_t i = 0; i < rows; ++i) dev.d[j][m * rows + i] = left(j * rows + i);
+    }
+    fitted += static_cast<int>(qr.rank());
+  }
+  return fitted;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  const double upper = v[mid];
+  if (v.size() % 2 == 1) return upper;
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+}
+
+// The median of a variance estimate with `dof` degrees of freedom over the variance (normal deviations).
+double median_over_variance(double dof) { return boost::math::median(boost::math::chi_squared(dof)) / dof; }
+
 RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals,
                        const std::vector<std::size_t>& set) {
-  const PreparedTrial& first = trials[set.front()];
-  const int channels = first.pressures ? 4 : 2;
-  std::size_t rows = rows_of(first);
-  for (std::size_t t : set) rows = std::min(rows, rows_of(trials[t]));
+  Deviations dev = deviations_of(trials, residuals, set);
+  const bool pressures = trials[set.front()].pressures;
+  const int fitted = pressures ? remove_command_response(trials, set, dev) : 0;
   const double k = static_cast<double>(set.size());
   double ss = 0.0;
-  long count = 0;
   std::map<std::pair<std::size_t, int>, std::pair<double, int>> blocks;  // (trial, group) -> sum, n of deviations
+  std::map<int, std::pair<double, int>> times;                           // 1 s block -> sum of squares, n of rows
   std::set<int> units;
-  for (int c = 0; c < channels; ++c) {
-    for (std::size_t i = 0; i < rows; ++i) {
-      double mean = 0.0;
-      for (std::size_t t : set) mean += residuals[t][static_cast<std::size_t>(c) * rows_of(trials[t]) + i] / k;
-      for (std::size_t t : set) {
-        const std::size_t at = static_cast<std::size_t>(c) * rows_of(trials[t]) + i;
-        const double d = residuals[t][at] - mean;
+  for (std::size_t c = 0; c < static_cast<std::size_t>(dev.channels); ++c) {
+    for (std::size_t i = 0; i < dev.rows; ++i) {
+      for (std::size_t j = 0; j < set.size(); ++j) {
+        const std::size_t t = set[j];
+        const Point& point = trials[t].points[c * rows_of(trials[t]) + i];
+        const double d = dev.d[j][c * dev.rows + i];
         ss += d * d;
-        auto& b = blocks[{t, trials[t].points[at].group}];
+        auto& b = blocks[{t, point.group}];
         b.first += d;
         ++b.second;
-        if (t == set.front()) units.insert(trials[t].points[at].unit);
+        auto& time = times[point.group % 1000000];
+        time.first += d * d;
+        time.second += j == 0 ? 1 : 0;  // rows of every channel
+        if (j == 0) units.insert(point.unit);
       }
-      ++count;
     }
   }
   RepeatSpread s;
-  if (count == 0 || blocks.empty()) return s;
-  // Deviations from the mean of K repetitions have (K - 1) / K of the noise's variance.
-  s.noise2 = ss / (static_cast<double>(count) * (k - 1.0));
-  double bm = 0.0, n = 0.0;
+  const double count = static_cast<double>(dev.channels) * static_cast<double>(dev.rows);
+  // Deviations from the mean of K repetitions have (K - 1) / K of the noise's variance; the response removed took
+  // `fitted` of their (K - 1) count independent parts.
+  const double independent = count * (k - 1.0), left = independent - fitted;
+  if (count == 0 || blocks.empty() || !(left > 0.0)) return s;
+  std::vector<double> mean2;  // of each block: its mean's square, over its variance's share of one repetition's
+  double n = 0.0;
   for (const auto& [key, b] : blocks) {
-    bm += std::pow(b.first / b.second, 2);
+    mean2.push_back(std::pow(b.first / b.second, 2) * k / (k - 1.0));
     n += b.second;
   }
-  s.block_mean2 = bm / static_cast<double>(blocks.size()) * k / (k - 1.0);
   s.block_size = n / static_cast<double>(blocks.size());
   s.units = static_cast<int>(units.size());
+  if (!pressures) {
+    s.noise2 = ss / independent;
+    s.block_mean2 = std::accumulate(mean2.begin(), mean2.end(), 0.0) / static_cast<double>(mean2.size());
+    return s;
+  }
+  // A monitor's noise is the same all through a trial; what the commands do not predict of a regulator's error is
+  // not: a trial that starts while the regulators still move (as closed-loop trials do) differs from its repetitions
+  // for the first seconds (seed 32's second-order regulator: 1.4 kPa over the first second, 0.35 after two, 0.16 once
+  // the commands' response is removed). So the pressures' noise is the median of its estimates over the 1 s blocks
+  // (each pooling every channel and repetition: K - 1 independent deviations of each row), and a block mean's
+  // variance the median over the blocks, each over the median of such an estimate of a normal variance. A start
+  // that rings for seconds still raises the second (a block's mean is n times as sensitive): conservative.
+  std::vector<double> noise2;
+  for (const auto& [block, v] : times) {
+    const double dof = v.second * (k - 1.0);
+    noise2.push_back(v.first / dof / median_over_variance(dof));
+  }
+  s.noise2 = median(noise2) * independent / left;
+  s.block_mean2 = median(mean2) / median_over_variance(1.0) * independent / left;
   return s;
 }
 
