@@ -8,7 +8,6 @@
 #include <set>
 
 #include <Eigen/Dense>
-#include <boost/math/distributions/chi_squared.hpp>
 
 #include <fmt/format.h>
 
@@ -62,8 +61,8 @@ struct RepeatSpread {
   int units = 0;             // distinct 4 s units of one trial
 };
 
-// Each repetition's nominal residuals less the repetitions' mean, over the rows all of them have: d[k][c * rows + i]
-// for member k of the set, channel c, row i.
+// Each repetition's nominal residuals less the repetitions' mean, over the rows all of them have: d[j][c * rows + i]
+// for the set's j-th trial, channel c, row i. Empty where a residual is not finite.
 struct Deviations {
   int channels = 0;
   std::size_t rows = 0;
@@ -80,6 +79,7 @@ Deviations deviations_of(const std::vector<PreparedTrial>& trials, const std::ve
     for (std::size_t i = 0; i < dev.rows; ++i) {
       double mean = 0.0;
       for (std::size_t t : set) mean += residuals[t][c * rows_of(trials[t]) + i] / k;
+      if (!std::isfinite(mean)) return {};
       for (std::size_t j = 0; j < set.size(); ++j) {
         dev.d[j][c * dev.rows + i] = residuals[set[j]][c * rows_of(trials[set[j]]) + i] - mean;
       }
@@ -92,29 +92,58 @@ Deviations deviations_of(const std::vector<PreparedTrial>& trials, const std::ve
 // times the nominal QB3's 0.06 s time constant and the seconds of a slow vent or an underdamped second-order response.
 constexpr double kCommandLagStep = 0.05, kCommandLagMax = 2.0;
 
+// Lag bins [edges[b], edges[b + 1]) in rows of `dt`: one row each over the first step (a regulator's quick
+// response), then a step each, the last ending at kCommandLagMax.
+std::vector<std::size_t> lag_bin_edges(double dt) {
+  const auto step = static_cast<std::size_t>(std::max(1.0, std::round(kCommandLagStep / dt)));
+  const auto end = static_cast<std::size_t>(std::round(kCommandLagMax / dt)) + 1;
+  std::vector<std::size_t> edges;
+  for (std::size_t l = 0; l < end; l += l < step ? 1 : step) edges.push_back(l);
+  edges.push_back(end);
+  return edges;
+}
+
+// Row i, bin b: the mean of `deviation` (one repetition's command deviations) over the rows i - edges[b + 1] + 1 ..
+// i - edges[b], the rows before the log at `before` (the regulators' command then, as the replay holds it). The mean
+// over a bin, not one row of it, so that the response is a kernel constant over each bin: a closed-loop command
+// changes from row to row, and a kernel sampled once per bin would miss that.
+Eigen::MatrixXd lagged_command_means(const Eigen::RowVectorXd& deviation, double before,
+                                     const std::vector<std::size_t>& edges) {
+  const auto rows = static_cast<std::size_t>(deviation.size());
+  std::vector<double> sum(rows + 1, 0.0);  // sum[i]: of the rows before row i
+  for (std::size_t i = 0; i < rows; ++i) sum[i + 1] = sum[i] + deviation(static_cast<Eigen::Index>(i));
+  const auto sum_before = [&](std::ptrdiff_t i) {
+    return i >= 0 ? sum[static_cast<std::size_t>(i)] : static_cast<double>(i) * before;
+  };
+  Eigen::MatrixXd x(rows, edges.size() - 1);
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+      const auto hi = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b]);
+      const auto lo = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b + 1]);
+      x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(b)) =
+          (sum_before(hi) - sum_before(lo)) / static_cast<double>(edges[b + 1] - edges[b]);
+    }
+  }
+  return x;
+}
+
 // Pressures only: removes from the deviations what the same muscle's command deviations predict (least squares on
-// their values 0-2 s before, one response per muscle for all repetitions), and returns the coefficients fitted.
-// Repetitions of a closed-loop task differ in their commands; a regulator that differs from the model answers each
-// with its own error, which is the model's, not the monitor's noise (seed 32's second-order regulator: a
+// their means over lag bins 0-2 s back, one response per muscle for all repetitions), and returns the rank of that
+// fit. Repetitions of a closed-loop task differ in their commands; a regulator that differs from the model answers
+// each with its own error, which is the model's, not the monitor's noise (seed 32's second-order regulator: a
 // repeat-to-repeat spread of 0.55 kPa where the monitors' noise is 0.15). The monitors read the regulators and feed no
-// controller, so their noise is independent of the commands and stays; the angles' noise does not (the controller
-// answers the IMUs' wander, so the commands' deviations carry it), and their deviations are left whole.
+// controller, so their noise is independent of the commands and stays (a regulator's own pressure fluctuation, which
+// moves the wrist and so the commands that follow, would lose a little of its slow part); the angles' noise is not
+// (the controller answers the IMUs' wander, so the commands' deviations carry it), and their deviations stay whole.
 int remove_command_response(const std::vector<PreparedTrial>& trials, const std::vector<std::size_t>& set,
                             Deviations& dev) {
   const auto& first = trials[set.front()].trial->trajectory;
   if (dev.rows < 2) return 0;
   const double dt = (first[dev.rows - 1].t - first.front().t) / static_cast<double>(dev.rows - 1);
   if (!(dt > 0.0)) return 0;
-  // Lag bins [edges[b], edges[b + 1]) rows: one row each over the first step (a regulator's quick response), then a
-  // step each; a bin's regressor is the commands' mean over it, so that the response is a kernel constant over each
-  // bin (a closed-loop command changes from row to row, and a kernel sampled once per bin would miss that).
-  const auto step = static_cast<std::size_t>(std::max(1.0, std::round(kCommandLagStep / dt)));
-  const auto last = static_cast<std::size_t>(std::round(kCommandLagMax / dt));
-  std::vector<std::size_t> edges;
-  for (std::size_t l = 0; l <= last + 1; l += l < step ? 1 : step) edges.push_back(l);
-  const std::size_t bins = edges.size() - 1;
-  const std::size_t k = set.size(), rows = dev.rows;
-  int fitted = 0;
+  const std::vector<std::size_t> edges = lag_bin_edges(dt);
+  const std::size_t k = set.size(), rows = dev.rows, bins = edges.size() - 1;
+  int rank = 0;
   for (std::size_t m = 0; m < 4; ++m) {
     Eigen::MatrixXd commands(k, rows);
     for (std::size_t j = 0; j < k; ++j) {
@@ -124,104 +153,128 @@ int remove_command_response(const std::vector<PreparedTrial>& trials, const std:
     Eigen::MatrixXd x(k * rows, bins);
     Eigen::VectorXd y(k * rows);
     for (std::size_t j = 0; j < k; ++j) {
-      // sum[i]: the deviations of rows before i, the first row's held before the log (the trial's start state)
-      std::vector<double> sum(rows + 1, 0.0);
-      for (std::size_t i = 0; i < rows; ++i) sum[i + 1] = sum[i] + commands(j, i);
-      const auto before = [&](std::ptrdiff_t i) {  // the sum of the rows before row i, i <= 0 counting the first
-        return i >= 0 ? sum[static_cast<std::size_t>(i)] : static_cast<double>(i) * commands(j, 0);
-      };
-      for (std::size_t i = 0; i < rows; ++i) {
-        y(j * rows + i) = dev.d[j][m * rows + i];
-        for (std::size_t b = 0; b < bins; ++b) {  // rows i - edges[b + 1] + 1 .. i - edges[b]
-          const auto hi = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b]);
-          const auto lo = static_cast<std::ptrdiff_t>(i + 1) - static_cast<std::ptrdiff_t>(edges[b + 1]);
-          x(j * rows + i, b) = (before(hi) - before(lo)) / static_cast<double>(edges[b + 1] - edges[b]);
-        }
-      }
+      // The replay holds the first command before the log where the angles were zeroed at the start, else the
+      // regulators start vented (replay.cc), alike in every repetition.
+      const double before = trials[set[j]].trial->conventions.angles_zeroed_at_start ? commands(j, 0) : 0.0;
+      x.middleRows(static_cast<Eigen::Index>(j * rows), static_cast<Eigen::Index>(rows)) =
+          lagged_command_means(commands.row(static_cast<Eigen::Index>(j)), before, edges);
+      for (std::size_t i = 0; i < rows; ++i) y(j * rows + i) = dev.d[j][m * rows + i];
     }
     if (!(x.squaredNorm() > 0.0)) continue;  // the same commands every time: nothing to predict
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
-    const Eigen::VectorXd left = y - x * qr.solve(y);
+    const Eigen::VectorXd unpredicted = y - x * qr.solve(y);
     for (std::size_t j = 0; j < k; ++j) {
-      for (std::size_t i = 0; i < rows; ++i) dev.d[j][m * rows + i] = left(j * rows + i);
+      for (std::size_t i = 0; i < rows; ++i) dev.d[j][m * rows + i] = unpredicted(j * rows + i);
     }
-    fitted += static_cast<int>(qr.rank());
+    rank += static_cast<int>(qr.rank());
   }
-  return fitted;
+  return rank;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  const double upper = v[mid];
-  if (v.size() % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+double median_of(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
 }
 
-// The median of a variance estimate with `dof` degrees of freedom over the variance (normal deviations).
-double median_over_variance(double dof) { return boost::math::median(boost::math::chi_squared(dof)) / dof; }
+// The mean of the values at most `cutoff`.
+double mean_up_to(const std::vector<double>& v, double cutoff) {
+  double sum = 0.0;
+  int n = 0;
+  for (double x : v) {
+    if (x <= cutoff) {
+      sum += x;
+      ++n;
+    }
+  }
+  return n == 0 ? 0.0 : sum / n;
+}
+
+// The pressures' 1 s blocks left out of their noise: a block whose variance lies more than three robust standard
+// deviations (1.4826 times the median absolute deviation) above the median block's. The blocks' own scatter sets the
+// bound, so a noise correlated within a block, which scatters the blocks' variances more than white noise does, keeps
+// its blocks (8 independent parts per block: 1.4 % left out).
+double noise_without_outlying_blocks(const std::vector<double>& block_variances) {
+  if (block_variances.empty()) return 0.0;
+  const double median = median_of(block_variances);
+  std::vector<double> deviation;
+  for (double v : block_variances) deviation.push_back(std::abs(v - median));
+  return mean_up_to(block_variances, median + 3.0 * 1.4826 * median_of(deviation));
+}
+
+// A block mean whose square is 24 times the median's is left out of the block means' variance: chi-squared with one
+// degree of freedom exceeds that once in 1000.
+constexpr double kBlockMeanOutlier = 24.0;
+
+// Sums over the deviations: per (trial, 1 s group) their sum and number, per 1 s of the log (the set's first trial's)
+// the sum of squares and number of rows, and the distinct 4 s units of the first trial.
+struct BlockSums {
+  double ss = 0.0;
+  std::map<std::pair<std::size_t, int>, std::pair<double, int>> blocks;
+  std::map<int, std::pair<double, int>> seconds;
+  std::set<int> units;
+};
+
+BlockSums block_sums(const std::vector<PreparedTrial>& trials, const std::vector<std::size_t>& set,
+                     const Deviations& dev) {
+  BlockSums sums;
+  for (std::size_t c = 0; c < static_cast<std::size_t>(dev.channels); ++c) {
+    for (std::size_t i = 0; i < dev.rows; ++i) {
+      const Point& first = trials[set.front()].points[c * rows_of(trials[set.front()]) + i];
+      auto& second = sums.seconds[first.group % 1000000];
+      ++second.second;
+      sums.units.insert(first.unit);
+      for (std::size_t j = 0; j < set.size(); ++j) {
+        const std::size_t t = set[j];
+        const double d = dev.d[j][c * dev.rows + i];
+        sums.ss += d * d;
+        second.first += d * d;
+        auto& b = sums.blocks[{t, trials[t].points[c * rows_of(trials[t]) + i].group}];
+        b.first += d;
+        ++b.second;
+      }
+    }
+  }
+  return sums;
+}
 
 RepeatSpread spread_of(const std::vector<PreparedTrial>& trials, const std::vector<std::vector<double>>& residuals,
                        const std::vector<std::size_t>& set) {
   Deviations dev = deviations_of(trials, residuals, set);
+  if (dev.d.empty()) return {};
   const bool pressures = trials[set.front()].pressures;
-  const int fitted = pressures ? remove_command_response(trials, set, dev) : 0;
+  const int rank = pressures ? remove_command_response(trials, set, dev) : 0;
+  const BlockSums sums = block_sums(trials, set, dev);
   const double k = static_cast<double>(set.size());
-  double ss = 0.0;
-  std::map<std::pair<std::size_t, int>, std::pair<double, int>> blocks;  // (trial, group) -> sum, n of deviations
-  std::map<int, std::pair<double, int>> times;                           // 1 s block -> sum of squares, n of rows
-  std::set<int> units;
-  for (std::size_t c = 0; c < static_cast<std::size_t>(dev.channels); ++c) {
-    for (std::size_t i = 0; i < dev.rows; ++i) {
-      for (std::size_t j = 0; j < set.size(); ++j) {
-        const std::size_t t = set[j];
-        const Point& point = trials[t].points[c * rows_of(trials[t]) + i];
-        const double d = dev.d[j][c * dev.rows + i];
-        ss += d * d;
-        auto& b = blocks[{t, point.group}];
-        b.first += d;
-        ++b.second;
-        auto& time = times[point.group % 1000000];
-        time.first += d * d;
-        time.second += j == 0 ? 1 : 0;  // rows of every channel
-        if (j == 0) units.insert(point.unit);
-      }
-    }
-  }
+  // Deviations from the mean of K repetitions have (K - 1) / K of the noise's variance: (K - 1) rows' worth of
+  // independent parts per row, less the rank of the response removed.
+  const double independent = static_cast<double>(dev.channels) * static_cast<double>(dev.rows) * (k - 1.0);
+  const double dof = independent - rank;
+  if (sums.blocks.empty() || !(dof > 0.0)) return {};
   RepeatSpread s;
-  const double count = static_cast<double>(dev.channels) * static_cast<double>(dev.rows);
-  // Deviations from the mean of K repetitions have (K - 1) / K of the noise's variance; the response removed took
-  // `fitted` of their (K - 1) count independent parts.
-  const double independent = count * (k - 1.0), left = independent - fitted;
-  if (count == 0 || blocks.empty() || !(left > 0.0)) return s;
-  std::vector<double> mean2;  // of each block: its mean's square, over its variance's share of one repetition's
+  std::vector<double> mean2;  // each block's mean squared, over the share (K - 1) / K of one repetition's variance
   double n = 0.0;
-  for (const auto& [key, b] : blocks) {
+  for (const auto& [key, b] : sums.blocks) {
     mean2.push_back(std::pow(b.first / b.second, 2) * k / (k - 1.0));
     n += b.second;
   }
-  s.block_size = n / static_cast<double>(blocks.size());
-  s.units = static_cast<int>(units.size());
+  s.block_size = n / static_cast<double>(sums.blocks.size());
+  s.units = static_cast<int>(sums.units.size());
   if (!pressures) {
-    s.noise2 = ss / independent;
+    s.noise2 = sums.ss / independent;
     s.block_mean2 = std::accumulate(mean2.begin(), mean2.end(), 0.0) / static_cast<double>(mean2.size());
     return s;
   }
   // A monitor's noise is the same all through a trial; what the commands do not predict of a regulator's error is
   // not: a trial that starts while the regulators still move (as closed-loop trials do) differs from its repetitions
-  // for the first seconds (seed 32's second-order regulator: 1.4 kPa over the first second, 0.35 after two, 0.16 once
-  // the commands' response is removed). So the pressures' noise is the median of its estimates over the 1 s blocks
-  // (each pooling every channel and repetition: K - 1 independent deviations of each row), and a block mean's
-  // variance the median over the blocks, each over the median of such an estimate of a normal variance. A start
-  // that rings for seconds still raises the second (a block's mean is n times as sensitive): conservative.
+  // for its first seconds (seed 32's second-order regulator: 1.4 kPa over the first second, 0.35 after two, 0.16 once
+  // the commands' response is removed). So the pressures' noise is the mean over the 1 s blocks of the log but those
+  // far above the others (their median alone would read a correlated noise low), and likewise the variance of a
+  // block's mean. A start that rings for seconds still raises both a little (a block's mean is n times as sensitive).
   std::vector<double> noise2;
-  for (const auto& [block, v] : times) {
-    const double dof = v.second * (k - 1.0);
-    noise2.push_back(v.first / dof / median_over_variance(dof));
-  }
-  s.noise2 = median(noise2) * independent / left;
-  s.block_mean2 = median(mean2) / median_over_variance(1.0) * independent / left;
+  for (const auto& [second, v] : sums.seconds) noise2.push_back(v.first / (v.second * (k - 1.0)));
+  s.noise2 = noise_without_outlying_blocks(noise2) * independent / dof;
+  s.block_mean2 = mean2.empty() ? 0.0 : mean_up_to(mean2, kBlockMeanOutlier * median_of(mean2)) * independent / dof;
   return s;
 }
 
