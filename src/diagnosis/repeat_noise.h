@@ -9,8 +9,9 @@
 // what a block's mean residual carries (the group test's denominator; white noise would give noise^2 / n).
 // A closed-loop task's repetitions differ in their commands, though, and the regulators answer each with the model's
 // error: for the measured pressures, what the same muscle's command deviations predict is taken out first, and the
-// spread is the median over 1 s blocks (a trial started while the regulators still move differs for its first
-// seconds); the angles' deviations are left whole (the controller answers the IMUs' wander, so the commands carry it).
+// spread is the mean over 1 s blocks but the outlying ones (a trial started while the regulators still move differs
+// for its first seconds); the angles' deviations are left whole (the controller answers the IMUs' wander, so the
+// commands carry it).
 //
 // Repetitions: trajectory trials of one rig and posture whose logged commands follow each other (their RMS
 // difference is under kRepeatCommandSimilarity of their own spread about their mean), alike in length. A trial
