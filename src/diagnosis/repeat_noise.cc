@@ -193,7 +193,7 @@ double mean_up_to(const std::vector<double>& v, double cutoff) {
 // The pressures' 1 s blocks left out of their noise: a block whose variance lies more than three robust standard
 // deviations (1.4826 times the median absolute deviation) above the median block's. The blocks' own scatter sets the
 // bound, so a noise correlated within a block, which scatters the blocks' variances more than white noise does, keeps
-// its blocks (8 independent parts per block: 1.4 % left out).
+// its blocks (8 independent parts per block: 1.8 % left out, the variance 3 % low; a simulation of 2 million).
 double noise_without_outlying_blocks(const std::vector<double>& block_variances) {
   if (block_variances.empty()) return 0.0;
   const double median = median_of(block_variances);
