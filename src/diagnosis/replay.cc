@@ -471,6 +471,13 @@ class MeasuredPressures {
 
 bool acts_on(const EffectSpec& effect, const PreparedTrial& trial) {
   if (!effect.acts_on_kind(trial.trial->kind)) return false;
+  // The measured pressures are compared with the regulators' alone, which do not feel the muscles or the wrist: only
+  // an effect that acts through the regulators changes them.
+  if (trial.pressures) return effect.through_regulators_only;
+  // A sweep's sensor weighs the relaxed wrist only where its convention says so: the muscle's torque alone, or the
+  // reading less its 0 kPa baseline, does not move with the wrist's stiffness (conventions.h, TorqueIncludes).
+  if (effect.id == EffectId::kPassiveWrist && trial.trial->kind == TrialKind::kTorqueSweep)
+    return trial.trial->conventions.torque.passive_wrist && !trial.trial->conventions.torque.baseline_subtracted;
   // A settled limit does not depend on the regulators: they change a range of motion only through the pressure left
   // when its angles were zeroed (predict_rom).
   if (effect.through_regulators_only && trial.trial->kind == TrialKind::kRangeOfMotion)

@@ -80,7 +80,9 @@ struct PreparedTrial {
 
 // Whether `effect` changes `trial`'s replay: a kind it acts on, and not the angles of a trajectory replayed from its
 // measured pressures where the effect acts only through the regulators, nor a range of motion whose angles were not
-// zeroed before each condition (the regulators reach a settled limit only through the zero).
+// zeroed before each condition (the regulators reach a settled limit only through the zero); a trajectory's measured
+// pressures only where it acts through the regulators; a torque sweep for the relaxed wrist only where the reading
+// includes the wrist. The trials it acts on are those an effect is scored on (explained_in_acted_on).
 bool acts_on(const EffectSpec& effect, const PreparedTrial& trial);
 
 // Measured minus predicted, for each point of `trial`.

@@ -2,7 +2,7 @@
 // a simulation step, and the replay is continuous in it; on the step's grid it is the row in force, as a simulation
 // that switches the command at the step does. Where measured pressures drive the muscles (PressureSource), the
 // regulators replayed alone give MuJoCo's pressures, and the angles are those of the commands' replay when the
-// measured pressures are the model's own.
+// measured pressures are the model's own. An effect acts on (acts_on) exactly the trials whose replay it changes.
 
 #include "diagnosis/replay.h"
 
@@ -10,10 +10,12 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "diagnosis/conventions.h"
 #include "diagnosis/effects.h"
 #include "physics/units.h"
 #include "sim/device.h"
@@ -224,6 +226,33 @@ TEST_F(ReplayDeadTime, TheRegulatorsAloneGiveTheSimulationsPressures) {
   }
 }
 
+// The measured pressures are compared with the regulators' alone: every effect but the regulators' leaves them as
+// they are, and so is not scored on them (acts_on), whether the pressures are replayed alone or in MuJoCo.
+TEST_F(ReplayDeadTime, OnlyTheRegulatorsEffectActsOnTheMeasuredPressures) {
+  const ModelVariant nominal{.device = sim::paper_device()};
+  ReplayEngine measured(sim::PluginSet::Default());
+  const std::vector<PreparedTrial> alone_trials = prepare(data_, measured, nominal);
+  for (const EffectSpec& spec : effect_catalogue()) {
+    // Each parameter a quarter of the way from the nominal's start to the top of its range: the effect switched on.
+    std::vector<double> values = fit_start(spec.id, nominal.device);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const ParameterSpec& p = spec.parameters[i];
+      values[i] = p.from_unit(p.to_unit(values[i]) + 0.25 * (1.0 - p.to_unit(values[i])));
+    }
+    ModelVariant variant = nominal;
+    apply_effect(spec.id, values, variant);
+    for (const auto& [engine, trials] :
+         {std::pair<ReplayEngine*, const std::vector<PreparedTrial>*>{&engine_, &prepared_},
+          {&measured, &alone_trials}}) {
+      const PreparedTrial& pressures = trials->at(1);
+      ASSERT_TRUE(pressures.pressures);
+      const bool changed = engine->predict(pressures, variant, false) != engine->predict(pressures, nominal, false);
+      EXPECT_EQ(acts_on(spec, pressures), spec.id == EffectId::kRegulatorLag) << spec.name;
+      EXPECT_EQ(changed, spec.id == EffectId::kRegulatorLag) << spec.name;
+    }
+  }
+}
+
 TEST_F(ReplayDeadTime, MeasuredPressuresThatAreTheModelsOwnGiveTheCommandsAngles) {
   // The model's own regulated pressures logged every step (1 ms): driven by them, the muscles see what the
   // commands' replay gave them, so the angles agree; a regulator effect then moves neither the angles nor the
@@ -336,6 +365,27 @@ TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
   const PreparedTrial p = prepared_sweep(1.0, 0.5);
   EXPECT_EQ(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
   EXPECT_LT(p.noise, 0.2);
+}
+
+// A sweep's reading moves with the relaxed wrist only where it includes the wrist's torque (conventions.h): the
+// muscle's torque alone and the reading less its 0 kPa baseline do not, and the relaxed wrist is not scored on them.
+TEST_F(AlternatingSweepNoise, TheRelaxedWristActsOnASweepOnlyWhereItsReadingIncludesTheWrist) {
+  const ModelVariant nominal{.device = sim::paper_device()};
+  ModelVariant stiffer = nominal;
+  std::vector<double> values = fit_start(EffectId::kPassiveWrist, nominal.device);
+  values[0] = 2.0;  // stiffness_scale
+  apply_effect(EffectId::kPassiveWrist, values, stiffer);
+  const EffectSpec& wrist = effect_spec(EffectId::kPassiveWrist);
+  for (const std::string convention : {"muscle", "baseline_subtracted", "muscle+passive_wrist",
+                                       "muscle+passive_wrist+hand_weight", "muscle+hand_weight"}) {
+    prepared_sweep(0.8, 0.0);
+    data_.trials[0].conventions.torque = *torque_includes_from_name(convention);
+    const PreparedTrial p = prepare(data_, engine_, nominal).at(0);
+    const bool includes_wrist = convention.find("passive_wrist") != std::string::npos;
+    EXPECT_EQ(acts_on(wrist, p), includes_wrist) << convention;
+    EXPECT_EQ(engine_.predict(p, stiffer, false) != engine_.predict(p, nominal, false), includes_wrist) << convention;
+    EXPECT_TRUE(acts_on(effect_spec(EffectId::kFpamParams), p)) << convention;
+  }
 }
 
 // The sweep's held-out part is a checkerboard of held angle and pressure level (replay.cc, prepare_sweep): every held
