@@ -31,6 +31,8 @@ struct TorqueIncludes {
   bool passive_wrist = false;
   bool hand_weight = false;
   bool baseline_subtracted = false;
+  // The reading moves with the relaxed wrist's torque (a baseline subtraction removes it whatever else is named).
+  bool weighs_passive_wrist() const { return passive_wrist && !baseline_subtracted; }
   bool operator==(const TorqueIncludes&) const = default;
 };
 // "muscle", "muscle+passive_wrist", "muscle+hand_weight", "muscle+passive_wrist+hand_weight" (the terms in any

@@ -477,7 +477,7 @@ bool acts_on(const EffectSpec& effect, const PreparedTrial& trial) {
   // A sweep's sensor weighs the relaxed wrist only where its convention says so: the muscle's torque alone, or the
   // reading less its 0 kPa baseline, does not move with the wrist's stiffness (conventions.h, TorqueIncludes).
   if (effect.id == EffectId::kPassiveWrist && trial.trial->kind == TrialKind::kTorqueSweep)
-    return trial.trial->conventions.torque.passive_wrist && !trial.trial->conventions.torque.baseline_subtracted;
+    return trial.trial->conventions.torque.weighs_passive_wrist();
   // A settled limit does not depend on the regulators: they change a range of motion only through the pressure left
   // when its angles were zeroed (predict_rom).
   if (effect.through_regulators_only && trial.trial->kind == TrialKind::kRangeOfMotion)
@@ -834,7 +834,7 @@ double sweep_reading(const physics::Muscle& muscle, const physics::WristModel& w
   if (c.torque.baseline_subtracted) return torque - torque_at(0.0);
   const physics::WristAxis axis = physics::axis_of(s.muscle);
   double other = 0.0;  // [N m] towards flexion / ulnar deviation
-  if (c.torque.passive_wrist) other += wrist.passive(axis, s.angle);
+  if (c.torque.weighs_passive_wrist()) other += wrist.passive(axis, s.angle);
   // The hand's weight about the axis it turns, m g c cos(angle), largest with the hand level (wrist_statics.h).
   if (c.torque.hand_weight && gravity_axis(c.posture) == axis) other += wrist.hand_weight_moment * std::cos(s.angle);
   return torque + direction * other;
