@@ -103,6 +103,13 @@ struct DiagnosisOptions {
   // none_without_evidence). Calibrated with explained_fraction (above): 1.5, the grid's lowest, where 2 had left the
   // outside strap_slip `none`.
   double contradiction_gap = 1.5;
+  // A device has two effects, the verdict names the larger and reports the second (issue 20). Where the leader closes
+  // the gap on its own, the combination's second member is reported beside it (Diagnosis::also_effects) only where it
+  // acts where the leader cannot: on some gap trial whose held-out residual the leader leaves within this fraction of
+  // what its base left (untouched), the second closes at least contradiction_gap noise units. A second member that
+  // mops up the misfit of the leader's form (no catalogue form is the device's) cuts the trials the leader moved
+  // (diagnosis.cc, second_effect_trial). Set before any reported run, on development seed 38 (docs/diagnosis.md).
+  double second_untouched_fraction = 0.1;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
   // leaves one, so that a device differing from its placement file only within its tolerances is `none`.
@@ -172,6 +179,9 @@ struct EffectFit {
   // Parameters fitted to the training data before it, into its base (the tolerance fit's, where within_tolerances):
   // the ranking counts them with its own (leader_of_round).
   std::size_t base_parameters = 0;
+  // A combination's member: each trial's held-out systematic residual (GapProblem::heldout_error on that trial alone,
+  // noise units) with the combination up to and with it; which trials it closes (second_effect_evidence).
+  std::vector<double> heldout_excess_by_trial;
 };
 
 // One trial's gap with the nominal model and, after the diagnosis, with the corrected one.
@@ -192,6 +202,8 @@ struct TrialGap {
   bool gap = false;
   bool remaining_significant = false;  // with the corrected model
   std::size_t points = 0;
+  // Its held-out systematic residual (noise units) with the base the combination's leader was fitted on.
+  double heldout_excess_leader_base = 0.0;
 };
 
 struct Diagnosis {

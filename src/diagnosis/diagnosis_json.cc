@@ -65,6 +65,7 @@ nlohmann::json trial_json(const TrialGap& t) {
           {"excess_within_tolerance", t.excess_within_tolerance},
           {"gap", t.gap},
           {"remaining_significant", t.remaining_significant},
+          {"heldout_excess_leader_base", t.heldout_excess_leader_base},
           {"points", t.points}};
 }
 
@@ -120,7 +121,8 @@ nlohmann::json to_json(const Diagnosis& d) {
                           {"evaluations", f.evaluations},
                           {"extended", f.extended},
                           {"within_tolerances", f.within_tolerances},
-                          {"base_parameters", f.base_parameters}};
+                          {"base_parameters", f.base_parameters},
+                          {"heldout_excess_by_trial", f.heldout_excess_by_trial}};
   };
   nlohmann::json j;
   j["verdict"] = d.verdict;

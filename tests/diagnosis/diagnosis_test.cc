@@ -267,6 +267,57 @@ TEST(DiagnosisVerdict, ARunnerUpFittedWithTheTolerancesIsNamedWhereItFitsTheTrai
   EXPECT_EQ(d.verdict, "unexplained") << d.reason;
 }
 
+// A pair's second effect is reported beside a leader named on its own where it acts where the leader cannot: a gap
+// trial the leader leaves untouched, of which the second closes at least contradiction_gap noise units. The figures are
+// the independent device's seed 38 (development data): aged_fabric + exponential_limits, whose fPAM leaves the sweep
+// with the relaxed wrist at 6.17 noise units (5.95 before it) and the wrist takes it to 2.04; and maxwell_slip alone,
+// whose hysteresis had moved an ellipse from 4.38 to 3.59 before the relaxed wrist took it to 1.94 (its form's misfit).
+TEST(DiagnosisVerdict, ASecondEffectIsReportedWhereItActsWhereTheLeaderCannot) {
+  using ::testing::HasSubstr;
+  Diagnosis d;
+  EffectFit fabric{.id = EffectId::kFpamParams, .name = "fpam_params"};
+  EffectFit wrist{.id = EffectId::kPassiveWrist, .name = "passive_wrist"};
+  fabric.heldout_excess_by_trial = {6.17, 8.30};
+  wrist.heldout_excess_by_trial = {2.04, 2.44};
+  d.effects = d.combination = {fabric, wrist};
+  d.leading_effect = "fpam_params";
+  d.explained_fraction = 0.59;
+  d.trials.push_back({.experiment = "torque_sweep/trials",
+                      .kind = TrialKind::kTorqueSweep,
+                      .excess_nominal = 6.0,
+                      .p_value = 1e-20,
+                      .significant = true,
+                      .gap = true,
+                      .heldout_excess_leader_base = 5.95});
+  d.trials.push_back({.experiment = "ellipse-1",
+                      .kind = TrialKind::kTrajectory,
+                      .excess_nominal = 14.6,
+                      .p_value = 1e-20,
+                      .significant = true,
+                      .gap = true,
+                      .heldout_excess_leader_base = 14.61});
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "fpam_params") << d.reason;
+  EXPECT_EQ(d.also_effects, std::vector<std::string>{"passive_wrist"});
+  EXPECT_THAT(d.reason, HasSubstr("passive_wrist acts besides: torque_sweep/trials keeps 6.17 held-out noise units"));
+  // Not where the second cuts less than contradiction_gap of it.
+  DiagnosisOptions stricter;
+  stricter.contradiction_gap = 4.5;
+  redecide(d, stricter);
+  EXPECT_TRUE(d.also_effects.empty()) << d.reason;
+  // Nor where the leader moved every trial the second cuts: what the second closes there is the leader's misfit.
+  d.combination[0].heldout_excess_by_trial = {3.59, 8.30};
+  d.combination[1].heldout_excess_by_trial = {1.94, 2.44};
+  d.trials[0].heldout_excess_leader_base = 4.38;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "fpam_params") << d.reason;
+  EXPECT_TRUE(d.also_effects.empty()) << d.reason;
+  // Nor without the residuals per trial (a diagnosis that did not record them).
+  d.combination[0].heldout_excess_by_trial.clear();
+  redecide(d, DiagnosisOptions{});
+  EXPECT_TRUE(d.also_effects.empty());
+}
+
 // Each effect, switched on with known parameters, recovered by its own fit (tolerances stated per line).
 TEST_F(DiagnosisTest, EachEffectRecoveredByItsOwnFit) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
