@@ -519,7 +519,7 @@ std::vector<double> heldout_excess_by_trial(const GapProblem& problem, const Uni
 }
 
 // Which trials the combination closes, member by member, and what its leader started from (for diagnosis.json and
-// second_effect_evidence).
+// second_effect_trial).
 void record_trials_closed(Diagnosis& d, const GapProblem& problem, const Predictions& leader_base_full) {
   const std::vector<double> base = heldout_excess_by_trial(problem, problem.heldout_sums(leader_base_full));
   for (std::size_t t = 0; t < base.size() && t < d.trials.size(); ++t) d.trials[t].heldout_excess_leader_base = base[t];

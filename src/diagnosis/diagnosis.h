@@ -108,7 +108,7 @@ struct DiagnosisOptions {
   // acts where the leader cannot: on some gap trial whose held-out residual the leader leaves within this fraction of
   // what its base left (untouched), the second closes at least contradiction_gap noise units. A second member that
   // mops up the misfit of the leader's form (no catalogue form is the device's) cuts the trials the leader moved
-  // (diagnosis.cc, second_effect_trial). Set before any reported run, on development seed 38 (docs/diagnosis.md).
+  // (diagnosis.cc, second_effect_trial). Set on development seed 38, before seed 39's reported run (docs/diagnosis.md).
   double second_untouched_fraction = 0.1;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
@@ -180,7 +180,7 @@ struct EffectFit {
   // the ranking counts them with its own (leader_of_round).
   std::size_t base_parameters = 0;
   // A combination's member: each trial's held-out systematic residual (GapProblem::heldout_error on that trial alone,
-  // noise units) with the combination up to and with it; which trials it closes (second_effect_evidence).
+  // noise units) with the combination up to and with it; which trials it closes (second_effect_trial).
   std::vector<double> heldout_excess_by_trial;
 };
 
