@@ -19,7 +19,6 @@
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
-#include "diagnosis/second_effect.h"
 #include "diagnosis/tolerance.h"
 #include "diagnosis/tolerance_fit.h"
 #include "physics/errors.h"
@@ -507,24 +506,24 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
   }
 }
 
+// Each trial's held-out systematic residual in `sums` (noise units; 0 for a trial without held-out points).
+std::vector<double> heldout_excess_by_trial(const GapProblem& problem, const UnitSums& sums) {
+  std::vector<double> excess(problem.size(), 0.0);
+  if (sums.per_trial.size() != problem.size()) return {};
+  for (std::size_t t = 0; t < problem.size(); ++t) {
+    std::vector<bool> only(problem.size(), false);
+    only[t] = true;
+    excess[t] = problem.heldout_error(sums, nullptr, &only);
+  }
+  return excess;
+}
+
 // Which trials the combination closes, member by member, and what its leader started from (for diagnosis.json and
-// report_second_effect).
+// second_effect_trial).
 void record_trials_closed(Diagnosis& d, const GapProblem& problem, const Predictions& leader_base_full) {
   const std::vector<double> base = heldout_excess_by_trial(problem, problem.heldout_sums(leader_base_full));
   for (std::size_t t = 0; t < base.size() && t < d.trials.size(); ++t) d.trials[t].heldout_excess_leader_base = base[t];
   for (EffectFit& f : d.combination) f.heldout_excess_by_trial = heldout_excess_by_trial(problem, f.heldout_after_sums);
-}
-
-// The other effects fitted on top of the combination's leader alone where it leaves a gap trial untouched
-// (fit_seconds_where_untouched), from the leader's base as a later round of the combination grows (try_base).
-std::vector<EffectFit> fit_seconds(const Diagnosis& d, const GapProblem& problem, const ModelVariant& leader_base,
-                                   const WithoutOwnTolerances& without_own, const sim::DeviceDescription& nominal_device,
-                                   const DiagnosisOptions& options) {
-  if (d.combination.empty()) return {};
-  Combination lead{.effects = {d.combination.front()}, .model = leader_base, .full = {}};
-  apply_effect(lead.effects.front().id, lead.effects.front().values, lead.model);
-  const SecondBase base_of = [&](EffectId id) { return try_base(lead, id, without_own); };
-  return fit_seconds_where_untouched(d, problem, base_of, nominal_device, options);
 }
 
 // The held-out error, over `acted_on`, of `base` with `id` at `values` brought back into the effect's own tolerance
@@ -745,6 +744,40 @@ std::string tolerance_note(const Diagnosis& d) {
     values.push_back(fmt::format("{}={:.4g}", fit.params[order[i]].first, fit.params[order[i]].second));
   return fmt::format(" (the nominal within its tolerances, {} parameters, moved most: {})", fit.params.size(),
                      fmt::join(values, ", "));
+}
+
+// The gap trial on which the combination's second member acts where its leader cannot
+// (DiagnosisOptions::second_untouched_fraction): the leader leaves the trial's held-out residual within that fraction
+// of what its base left, and the second closes at least contradiction_gap noise units of it; the one it closes most
+// of. None without a second member, or where the members' residuals per trial were not recorded (record_trials_closed).
+std::optional<std::size_t> second_effect_trial(const Diagnosis& d, const DiagnosisOptions& options) {
+  if (d.combination.size() < 2) return std::nullopt;
+  const std::vector<double>& lead = d.combination[0].heldout_excess_by_trial;
+  const std::vector<double>& with_second = d.combination[1].heldout_excess_by_trial;
+  if (lead.size() != d.trials.size() || with_second.size() != d.trials.size()) return std::nullopt;
+  std::optional<std::size_t> best;
+  for (std::size_t t = 0; t < d.trials.size(); ++t) {
+    const bool untouched =
+        lead[t] >= (1.0 - options.second_untouched_fraction) * d.trials[t].heldout_excess_leader_base;
+    const double cut = lead[t] - with_second[t];
+    if (d.trials[t].gap && untouched && cut >= options.contradiction_gap &&
+        (!best || cut > lead[*best] - with_second[*best]))
+      best = t;
+  }
+  return best;
+}
+
+// Reports the combination's second member beside a leader named on its own where it acts where the leader cannot
+// (second_effect_trial), and says so in the reason.
+void report_second_effect(Diagnosis& d, const DiagnosisOptions& options) {
+  const std::optional<std::size_t> t = second_effect_trial(d, options);
+  if (!t) return;
+  const EffectFit& second = d.combination[1];
+  d.also_effects = {second.name};
+  d.reason += fmt::format(
+      "; {} acts besides: {} keeps {:.2f} held-out noise units with {} ({:.2f} before it), {:.2f} with {} too",
+      second.name, d.trials[*t].experiment, d.combination[0].heldout_excess_by_trial[*t], d.leading_effect,
+      d.trials[*t].heldout_excess_leader_base, second.heldout_excess_by_trial[*t], second.name);
 }
 
 // Which rule decides a verdict from the effects fitted on the nominal as placed, in this order: the combination's
@@ -1062,7 +1095,6 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
     d.corrected_predictions = std::move(combination.full);
     measure_explained(d, problem, base.variant, base.full, nominal_device, options);
     record_trials_closed(d, problem, base.full);
-    d.seconds_where_untouched = fit_seconds(d, problem, base.variant, without_own, nominal_device, options);
     measure_leader_beyond_tolerance(d, problem, nominal, nominal_device, options);
     // A runner-up the verdict names is the correction: the combination does not hold it.
     if (as_placed_rule(d, options) == AsPlacedRule::kRunnerUp) {

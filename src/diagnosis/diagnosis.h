@@ -108,7 +108,7 @@ struct DiagnosisOptions {
   // acts where the leader cannot: on some gap trial whose held-out residual the leader leaves within this fraction of
   // what its base left (untouched), the second closes at least contradiction_gap noise units. A second member that
   // mops up the misfit of the leader's form (no catalogue form is the device's) cuts the trials the leader moved
-  // (second_effect.h, report_second_effect). Set on development seed 38, before seed 39's reported run (docs/diagnosis.md).
+  // (diagnosis.cc, second_effect_trial). Set on development seed 38, before seed 39's reported run (docs/diagnosis.md).
   double second_untouched_fraction = 0.1;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
@@ -180,8 +180,7 @@ struct EffectFit {
   // the ranking counts them with its own (leader_of_round).
   std::size_t base_parameters = 0;
   // A combination's member: each trial's held-out systematic residual (GapProblem::heldout_error on that trial alone,
-  // noise units) with the combination up to and with it, or with a second effect on top of the leader; which trials it
-  // closes (second_effect.h).
+  // noise units) with the combination up to and with it; which trials it closes (second_effect_trial).
   std::vector<double> heldout_excess_by_trial;
 };
 
@@ -232,12 +231,8 @@ struct Diagnosis {
   // beyond its own tolerance box counts (diagnosis.cc, measure_explained).
   std::string leading_effect;
   double explained_fraction = 0.0;
-  // When the verdict names the leading effect of a combination that closes the gap only together: the others; or
-  // beside a leader named on its own, a second effect acting where it cannot (second_effect.h).
+  // When the verdict names the leading effect of a combination that closes the gap only together: the others.
   std::vector<std::string> also_effects;
-  // Where the combination's leader leaves a gap trial untouched: the other effects acting on such a trial, each fitted
-  // on top of the leader alone (second_effect.h, fit_seconds_where_untouched).
-  std::vector<EffectFit> seconds_where_untouched;
   // Where the nominal within its tolerances leaves a gap: each effect fitted on top of it (beyond_tolerance.h), best
   // first by the training error it leaves, and what it closes of the held-out gap beyond the tolerances. A device
   // differs from its placement file within its tolerances and has an effect besides; fitted from the file alone, an

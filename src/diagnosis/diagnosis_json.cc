@@ -160,7 +160,6 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["tolerance"] = tolerance_json(d.tolerance);
   j["effects"] = array_of(d.effects, effect_json);
   j["combination"] = array_of(d.combination, effect_json);
-  j["seconds_where_untouched"] = array_of(d.seconds_where_untouched, effect_json);
   j["localization"] = nlohmann::json::array();
   for (const auto& e : d.localization) {
     nlohmann::json entry{{"experiment", e.experiment},
