@@ -61,7 +61,9 @@ struct DiagnosisOptions {
   int bootstrap = 200;  // resamples of the held-out units
   std::uint64_t seed = 1;
   int max_evaluations = 50;  // per fit of up to two parameters, after the start grid; 15 more per further one
-  double alpha = 0.01;       // significance of the gap tests (before Bonferroni)
+  // Family-wise significance of a data set's tests: Holm over its trials' gap tests, Bonferroni over the localisation's
+  // parts and over what the corrected model leaves.
+  double alpha = 0.01;
   // Ranking the effects fitted in one round: the fewest parameters among those whose held-out error lies within one
   // bootstrap standard error (paired) of the lowest (the one-standard-error rule, effect_fit.h). It replaced a penalty
   // of 0.03 shrink per parameter, set when every effect had one to three, which cost a four-parameter effect 0.12 of

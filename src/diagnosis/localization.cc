@@ -28,6 +28,23 @@ double chi_squared_p_value(double x, double k) {
   return boost::math::cdf(boost::math::complement(boost::math::chi_squared(k), x));
 }
 
+std::vector<bool> holm_significant(const std::vector<double>& p_values, double alpha) {
+  const std::size_t m = p_values.size();
+  std::vector<std::size_t> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  // NaNs last: a test that gave no p rejects nothing, and stops the procedure where it is reached.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return !std::isnan(p_values[a]) && (std::isnan(p_values[b]) || p_values[a] < p_values[b]);
+  });
+  std::vector<bool> significant(m, false);
+  for (std::size_t k = 0; k < m; ++k) {
+    const double p = p_values[order[k]];
+    if (!(p < alpha / static_cast<double>(m - k))) break;
+    significant[order[k]] = true;
+  }
+  return significant;
+}
+
 LocalizationEntry group_test(const PreparedTrial& trial, const std::vector<double>& residuals,
                              const std::vector<std::size_t>& members) {
   std::map<int, std::pair<double, int>> groups;

@@ -33,6 +33,12 @@ struct LocalizationEntry {
 double f_test_p_value(double f, double d1, double d2);
 double chi_squared_p_value(double x, double k);
 
+// Which of `p_values` are significant at family-wise error rate `alpha`, by Holm's step-down procedure (Holm 1979,
+// "A simple sequentially rejective multiple test procedure", Scand. J. Statist. 6): the k-th smallest is compared with
+// alpha / (m - k + 1), and testing stops at the first that fails. It controls the family-wise rate as Bonferroni does
+// and rejects at least what Bonferroni rejects; a NaN p rejects nothing.
+std::vector<bool> holm_significant(const std::vector<double>& p_values, double alpha);
+
 // The parts of every trial, most significant (largest residual over noise) first. `residuals[t]` are trial t's
 // measured minus predicted values, aligned with its points.
 std::vector<LocalizationEntry> localize(const std::vector<PreparedTrial>& trials,

@@ -90,5 +90,29 @@ TEST(Localization, ChiSquaredTailMatchesItsClosedForm) {
   EXPECT_NEAR(f_test_p_value(2.0, 2.0, 1e7), std::exp(-2.0), 1e-5);
 }
 
+// Holm's step-down procedure (Holm 1979): the k-th smallest of m p-values is compared with alpha / (m - k + 1), and
+// testing stops at the first that fails. Here m = 5 and alpha = 0.05: 0.001 < 0.01, 0.011 < 0.0125 and
+// 0.016 < 0.0167 reject; 0.03 > 0.025 stops, so 0.04 (< 0.05) is not reached. Bonferroni (0.01) rejects only 0.001.
+TEST(Localization, HolmStepDownRejectsWhatBonferroniDoesAndTheStepsBelowTheFirstFailure) {
+  const std::vector<double> p = {0.04, 0.016, 0.001, 0.03, 0.011};
+  EXPECT_EQ(holm_significant(p, 0.05), (std::vector<bool>{false, true, true, false, true}));
+  // Under the null its family-wise error rate stays at alpha: 20 uniform p-values per family.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  int families_with_a_rejection = 0;
+  const int families = 20000;
+  for (int f = 0; f < families; ++f) {
+    std::vector<double> null(20);
+    for (double& v : null) v = uniform(rng);
+    const std::vector<bool> s = holm_significant(null, 0.05);
+    families_with_a_rejection += std::count(s.begin(), s.end(), true) > 0 ? 1 : 0;
+  }
+  // The rate is 1 - 0.9975^20 = 0.0488 (the first step is Bonferroni's); 4 binomial standard errors: 0.006.
+  EXPECT_NEAR(static_cast<double>(families_with_a_rejection) / families, 0.0488, 0.006);
+  // A NaN p rejects nothing, and an empty family nothing.
+  EXPECT_EQ(holm_significant({std::nan(""), 0.001}, 0.05), (std::vector<bool>{false, true}));
+  EXPECT_TRUE(holm_significant({}, 0.05).empty());
+}
+
 }  // namespace
 }  // namespace softwrist::diagnosis
