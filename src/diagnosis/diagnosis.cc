@@ -19,6 +19,7 @@
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
+#include "diagnosis/setting_scatter.h"
 #include "diagnosis/tolerance.h"
 #include "diagnosis/tolerance_fit.h"
 #include "physics/errors.h"
@@ -122,9 +123,10 @@ double rms(const std::vector<double>& r) {
   return std::sqrt(ss / static_cast<double>(r.size()));
 }
 
-// The systematic part of residuals `r` in units of `noise`: sqrt(max(0, mean (r/noise)^2 - 1)).
-double excess_over_noise(const std::vector<double>& r, double noise) {
-  const double in_noise_units = rms(r) / noise;
+// The systematic part of a trial's residuals `r` in units of its noise: sqrt(max(0, mean (r/noise)^2 - 1)), the
+// residuals whitened for the scatter a sweep's setting shares (setting_scatter.h).
+double excess_over_noise(const PreparedTrial& trial, const std::vector<double>& r) {
+  const double in_noise_units = rms(whitened(trial, r)) / trial.noise;
   return std::sqrt(std::max(0.0, in_noise_units * in_noise_units - 1.0));
 }
 
@@ -139,7 +141,7 @@ std::vector<std::vector<double>> residuals_of_all(const std::vector<PreparedTria
 LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<double>& residuals) {
   std::vector<std::size_t> all(residuals.size());
   std::iota(all.begin(), all.end(), 0);
-  return group_test(trial, residuals, all);
+  return group_test(trial, whitened(trial, residuals), all);
 }
 
 // Each trial's gap with the nominal model: significant at family-wise rate alpha over the trials by Holm's step-down
@@ -164,7 +166,7 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
                  .p_value = e.p_value,
                  .points = p.points.size()};
     gap.rms_nominal = rms(residuals[t]);
-    gap.excess_nominal = excess_over_noise(residuals[t], p.noise);
+    gap.excess_nominal = excess_over_noise(p, residuals[t]);
     gaps.push_back(gap);
     p_values.push_back(e.p_value);
   }
@@ -510,7 +512,7 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
     const std::vector<double> r = residuals_of(d.prepared[t], corrected_full[t]);
     TrialGap& gap = d.trials[t];
     gap.rms_corrected = rms(r);
-    gap.excess_corrected = excess_over_noise(r, d.prepared[t].noise);
+    gap.excess_corrected = excess_over_noise(d.prepared[t], r);
     gap.remaining_significant = trial_test(d.prepared[t], r).p_value < trial_alpha;
     d.remaining_gap_significant = d.remaining_gap_significant || gap.remaining_significant;
   }

@@ -6,6 +6,8 @@
 #include <random>
 #include <set>
 
+#include "diagnosis/setting_scatter.h"
+
 namespace softwrist::diagnosis {
 
 Predictions GapProblem::evaluate(const ModelVariant& variant, bool training_only, const EffectSpec* only_changed,
@@ -27,11 +29,12 @@ bool GapProblem::depends_on_step() const {
 double GapProblem::training_error(const Predictions& predictions) const {
   return mean_over_kinds(nullptr, [&](std::size_t t) {
     const PreparedTrial& trial = trials_[t];
+    const std::vector<double> r = whitened(trial, residuals_of(trial, predictions[t]), SplitPart::kTraining);
     double sum = 0.0;
     int n = 0;
     for (std::size_t i = 0; i < trial.points.size(); ++i) {
       if (trial.points[i].heldout) continue;
-      sum += std::pow((trial.points[i].measured - predictions[t][i]) / trial.noise, 2);
+      sum += std::pow(r[i] / trial.noise, 2);
       ++n;
     }
     return n > 0 ? sum / n : 0.0;
@@ -50,8 +53,9 @@ std::vector<double> GapProblem::training_residuals(const Predictions& prediction
     const double weight = std::sqrt(1.0 / (static_cast<double>(trials_of_kind.size()) *
                                            trials_of_kind[trial.trial->kind] * static_cast<double>(n))) /
                           trial.noise;
+    const std::vector<double> r = whitened(trial, residuals_of(trial, predictions[t]), SplitPart::kTraining);
     for (std::size_t i = 0; i < trial.points.size(); ++i) {
-      if (!trial.points[i].heldout) residuals.push_back(weight * (trial.points[i].measured - predictions[t][i]));
+      if (!trial.points[i].heldout) residuals.push_back(weight * r[i]);
     }
   }
   return residuals;
@@ -64,10 +68,12 @@ UnitSums GapProblem::sums_of(const Predictions& predictions, bool heldout) const
     int units = 0;
     for (const auto& p : trial.points) units = std::max(units, p.unit + 1);
     std::vector<std::pair<double, int>> per_unit(static_cast<std::size_t>(units));
+    const std::vector<double> r =
+        whitened(trial, residuals_of(trial, predictions[t]), heldout ? SplitPart::kHeldOut : SplitPart::kTraining);
     for (std::size_t i = 0; i < trial.points.size(); ++i) {
       if (trial.points[i].heldout != heldout) continue;
       auto& u = per_unit[static_cast<std::size_t>(trial.points[i].unit)];
-      u.first += std::pow((trial.points[i].measured - predictions[t][i]) / trial.noise, 2);
+      u.first += std::pow(r[i] / trial.noise, 2);
       ++u.second;
     }
     sums.per_trial.push_back(std::move(per_unit));

@@ -12,6 +12,7 @@
 #include <boost/math/distributions/fisher_f.hpp>
 #include <unsupported/Eigen/FFT>
 
+#include "diagnosis/setting_scatter.h"
 #include "physics/torque_geometry.h"
 #include "physics/units.h"
 #include "sim/wrist_sim.h"
@@ -291,7 +292,11 @@ std::vector<LocalizationEntry> localize(const std::vector<PreparedTrial>& trials
                                         const std::vector<std::vector<double>>& residuals,
                                         const sim::DeviceDescription& nominal, double alpha) {
   std::vector<LocalizationEntry> out;
-  for (std::size_t ti = 0; ti < trials.size(); ++ti) add_trial_entries({trials[ti], residuals[ti], out}, nominal);
+  for (std::size_t ti = 0; ti < trials.size(); ++ti) {
+    // A sweep's setting offsets weighed as what they are (setting_scatter.h), as in the trial's own gap test.
+    const std::vector<double> white = whitened(trials[ti], residuals[ti]);
+    add_trial_entries({trials[ti], white, out}, nominal);
+  }
   const double tests = static_cast<double>(std::max<std::size_t>(1, out.size()));
   for (auto& e : out) e.significant = e.p_value < alpha / tests;
   std::stable_sort(out.begin(), out.end(), [](const LocalizationEntry& a, const LocalizationEntry& b) {

@@ -8,6 +8,7 @@
 
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
+#include "diagnosis/setting_scatter.h"
 #include "sim/device.h"
 
 namespace softwrist::diagnosis {
@@ -26,7 +27,7 @@ std::vector<double> weighted_residuals(const std::vector<PreparedTrial>& prepare
   std::vector<double> out;
   if (rho) *rho = 0.0;
   for (std::size_t t = 0; t < prepared.size(); ++t) {
-    const std::vector<double> r = residuals_of(prepared[t], predictions[t]);
+    const std::vector<double> r = whitened(prepared[t], residuals_of(prepared[t], predictions[t]));
     const double noise = prepared[t].noise > 0.0 ? prepared[t].noise : 1.0;
     double lag0 = 0.0, lag1 = 0.0;
     for (std::size_t i = 0; i < r.size(); ++i) {

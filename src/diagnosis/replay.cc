@@ -16,6 +16,7 @@
 #include <fmt/ranges.h>
 
 #include "diagnosis/repeat_noise.h"
+#include "diagnosis/setting_scatter.h"
 #include "physics/fpam_force.h"
 #include "physics/fpam_hysteresis.h"
 #include "physics/pressure_regulator.h"
@@ -86,32 +87,97 @@ Spread pooled_spread(const PreparedTrial& prepared, const std::vector<double>& r
   return dof >= 1 ? Spread{std::sqrt(ss / dof), dof} : Spread{};
 }
 
+// The spread of `residuals` about an additive fit, at each held angle of a torque sweep, of an offset per setting
+// (Point::setting) and a value per condition (`condition`): what is left differs from reading to reading within a
+// setting, the noise the readings' own (setting_scatter.h). Fitted by alternating the two sets of means (a complete
+// table needs one pass; an incomplete one converges), with n - settings - conditions + 1 degrees of freedom per held
+// angle.
+Spread spread_within_settings(const PreparedTrial& prepared, const std::vector<double>& residuals,
+                              int Point::*condition) {
+  std::map<int, std::vector<std::size_t>> stations;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    const Point& p = prepared.points[i];
+    if (p.setting >= 0 && p.*condition >= 0) stations[p.unit].push_back(i);
+  }
+  double ss = 0.0;
+  int dof = 0;
+  for (const auto& [station, members] : stations) {
+    std::map<int, std::pair<double, int>> by_setting, by_condition;
+    std::vector<double> e;
+    for (std::size_t i : members) e.push_back(residuals[i]);
+    for (int pass = 0; pass < 50; ++pass) {
+      for (int Point::*factor : {&Point::setting, condition}) {
+        std::map<int, std::pair<double, int>>& sums = factor == condition ? by_condition : by_setting;
+        sums.clear();
+        for (std::size_t k = 0; k < members.size(); ++k) {
+          auto& s = sums[prepared.points[members[k]].*factor];
+          s.first += e[k];
+          ++s.second;
+        }
+        for (std::size_t k = 0; k < members.size(); ++k) {
+          const auto& s = sums[prepared.points[members[k]].*factor];
+          e[k] -= s.first / s.second;
+        }
+      }
+    }
+    const int station_dof =
+        static_cast<int>(members.size()) - static_cast<int>(by_setting.size() + by_condition.size()) + 1;
+    if (station_dof < 1) continue;
+    for (double v : e) ss += v * v;
+    dof += station_dof;
+  }
+  return dof >= 1 ? Spread{std::sqrt(ss / dof), dof} : Spread{};
+}
+
+// The successive differences' estimate (in file order), of pairs within one setting only where `within_settings`.
+Spread successive_differences(const PreparedTrial& prepared, const std::vector<double>& residuals,
+                              bool within_settings) {
+  double ss = 0.0;
+  int pairs = 0;
+  for (std::size_t i = 1; i < residuals.size(); ++i) {
+    const int setting = prepared.points[i].setting;
+    if (within_settings && (setting < 0 || setting != prepared.points[i - 1].setting)) continue;
+    ss += std::pow(residuals[i] - residuals[i - 1], 2);
+    ++pairs;
+  }
+  const int dof = std::max(1, pairs);
+  return Spread{std::sqrt(ss / (2.0 * dof)), dof};
+}
+
 // Pooled within-group variance of `residuals`. Without repeats: successive differences (in file order), or, where
 // it is smaller, the spread between repetitions of a condition reached from either side (Point::condition: a
 // torque sweep whose order alternates between repetitions). Each of the two also holds systematic error (the model's
 // misfit from one point to the next, the fabric's hysteresis between the two sides), so neither is below the noise
 // but by chance; the smaller is the nearer (the choice biases it low by a few per cent where both are the noise). The
 // successive differences alone read 0.06-0.3 N m on the independent device's alternating sweeps of a muscle with an
-// effect, whose sensor's noise is a few mN m (issue 20's seed 2).
+// effect, whose sensor's noise is a few mN m (issue 20's seed 2). A torque sweep's readings of one setting share an
+// offset (setting_scatter.h), which each estimate takes out first where some setting holds two readings in a row:
+// the noise is then the readings' own, and the offset's spread is estimated and weighed apart.
 void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residuals) {
-  const Spread within = pooled_spread(prepared, residuals, &Point::group);
-  if (within.dof >= 2) {
-    prepared.noise = within.sd;
-    prepared.noise_dof = within.dof;
-    prepared.noise_source = "pooled spread of repeated measurements";
+  const bool by_setting = successive_differences(prepared, residuals, true).dof >= 2;  // two pairs in a setting
+  const auto spread = [&](int Point::*condition) {
+    return by_setting ? spread_within_settings(prepared, residuals, condition)
+                      : pooled_spread(prepared, residuals, condition);
+  };
+  const std::string about = by_setting ? " about their settings' offsets" : "";
+  const Spread repeated = spread(&Point::group);
+  if (repeated.dof >= 2) {
+    prepared.noise = repeated.sd;
+    prepared.noise_dof = repeated.dof;
+    prepared.noise_source = "pooled spread of repeated measurements" + about;
     return;
   }
-  double sd = 0.0;
-  for (std::size_t i = 1; i < residuals.size(); ++i) sd += std::pow(residuals[i] - residuals[i - 1], 2);
-  prepared.noise_dof = std::max(1, static_cast<int>(residuals.size()) - 1);
-  prepared.noise = std::sqrt(sd / (2.0 * prepared.noise_dof));
-  prepared.noise_source = "successive differences (no repeated measurements)";
-  const Spread across = pooled_spread(prepared, residuals, &Point::condition);
+  const Spread successive = successive_differences(prepared, residuals, by_setting);
+  const std::string differences = by_setting ? "successive differences within a setting" : "successive differences";
+  prepared.noise = successive.sd;
+  prepared.noise_dof = successive.dof;
+  prepared.noise_source = differences + " (no repeated measurements)";
+  const Spread across = spread(&Point::condition);
   if (across.dof >= 2 && across.sd < prepared.noise) {
     prepared.noise_source = fmt::format(
-        "spread between repetitions of a condition reached from either side, hysteresis included (no condition "
-        "repeats from one side; successive differences: {:.3g})",
-        prepared.noise);
+        "spread between repetitions of a condition reached from either side{}, hysteresis included (no condition "
+        "repeats from one side; {}: {:.3g})",
+        about, differences, prepared.noise);
     prepared.noise = across.sd;
     prepared.noise_dof = across.dof;
   }
@@ -210,6 +276,14 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       point.heldout = (cluster[k] + level[k]) % 2 == 1;
       point.repetition = s.repetition;
     }
+  }
+  // Settings in the log's order: a new one wherever the held angle or the repetition changes.
+  int setting = -1;
+  for (std::size_t i = 0; i < p.points.size(); ++i) {
+    Point& point = p.points[i];
+    const bool same = i > 0 && point.unit == p.points[i - 1].unit && point.repetition == p.points[i - 1].repetition;
+    if (!same) ++setting;
+    point.setting = point.condition < 0 ? -1 : setting;  // a reading defined as 0 has no noise
   }
   return p;
 }
@@ -563,7 +637,9 @@ std::vector<PreparedTrial> prepare(const RealData& data, ReplayEngine& engine, c
         break;
     }
     if (trial.kind != TrialKind::kTrajectory) {
-      estimate_noise(p, residuals_of(p, engine.predict(p, nominal, false)));
+      const std::vector<double> residuals = residuals_of(p, engine.predict(p, nominal, false));
+      estimate_noise(p, residuals);
+      if (trial.kind == TrialKind::kTorqueSweep) estimate_setting_scatter(p, residuals);
     }
     apply_resolution_floor(p);
     if (trial.kind == TrialKind::kTrajectory && trial.trajectory.front().measured_kpa) {

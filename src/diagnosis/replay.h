@@ -54,6 +54,9 @@ struct Point {
   // A torque sweep's condition regardless of the side its held angle was reached from (-1 elsewhere): where no
   // condition repeats from one side, its repetitions from either side bound the noise (estimate_noise).
   int condition = -1;
+  // A torque sweep's setting (-1 elsewhere): a run of consecutive readings at one held angle of one repetition, which
+  // share the hand's seat and the relaxed wrist's tone (setting_scatter.h).
+  int setting = -1;
 };
 
 struct PreparedTrial {
@@ -74,7 +77,10 @@ struct PreparedTrial {
   // The variance of a repeat group's mean residual is noise^2 * group_inflation / n: 1 for white noise, more for a
   // noise that wanders (trajectories with repetitions, repeat_noise.h).
   double group_inflation = 1.0;
-  std::string noise_source;     // how it was estimated
+  std::string noise_source;  // how it was estimated
+  // Torque sweeps: the standard deviation of the offset a setting's readings share, in `unit` (setting_scatter.h);
+  // 0 where none was found.
+  double setting_scatter = 0.0;
   double training_end_s = 0.0;  // trajectories: the training part ends here
 };
 

@@ -312,9 +312,12 @@ class AlternatingSweepNoise : public ::testing::Test {
   static constexpr double kNoise = 0.005;  // [N m]
 
   // The sweep: 5 held angles x 5 pressures, up the angles in repetition 1 and down them in repetition 2, each
-  // measurement `scale` times the nominal's torque, `side_offset` [N m] added where the angle was reached going
-  // down (a hysteresis), and noise.
-  PreparedTrial prepared_sweep(double scale, double side_offset, bool baseline_subtracted = false) {
+  // measurement `scale` times the nominal's torque, `side_offset` [N m] times the pressure over the highest added
+  // where the angle was reached going down (a hysteresis, which grows with the muscle's force), and noise.
+  // `setting_offset` [N m]: the standard deviation of an offset each held angle's readings share in a repetition (the
+  // hand's seat, the relaxed wrist's tone; setting_scatter.h).
+  PreparedTrial prepared_sweep(double scale, double side_offset, bool baseline_subtracted = false,
+                               double setting_offset = 0.0) {
     Trial trial{.kind = TrialKind::kTorqueSweep, .name = "sweep", .file = "sweep.csv"};
     trial.conventions.torque.baseline_subtracted = baseline_subtracted;
     for (const int repetition : {1, 2}) {
@@ -332,10 +335,13 @@ class AlternatingSweepNoise : public ::testing::Test {
     const ModelVariant nominal{.device = sim::paper_device()};
     const std::vector<double> torque = engine_.predict(prepare(data_, engine_, nominal).at(0), nominal, false);
     std::mt19937_64 rng(11);
-    std::normal_distribution<double> noise(0.0, kNoise);
+    std::normal_distribution<double> noise(0.0, kNoise), offset(0.0, setting_offset);
+    double shared = 0.0;
     for (std::size_t i = 0; i < torque.size(); ++i) {
       SweepPoint& s = data_.trials[0].sweep[i];
-      s.torque = scale * torque[i] + (s.motion < 0 ? side_offset : 0.0) + noise(rng);
+      if (i % 5 == 0) shared = setting_offset > 0.0 ? offset(rng) : 0.0;  // five pressures per setting
+      s.torque = scale * torque[i] + (s.motion < 0 ? side_offset * s.pressure / units::kpa_to_pa(120.0) : 0.0) +
+                 noise(rng) + shared;
       if (baseline_subtracted && s.pressure == 0.0) s.torque = 0.0;  // the 0 kPa reading less itself
     }
     return prepare(data_, engine_, nominal).at(0);
@@ -349,19 +355,33 @@ TEST_F(AlternatingSweepNoise, TheSpreadBetweenTheSidesIsTheNoiseWhereTheMisfitCh
   const PreparedTrial p = prepared_sweep(0.8, 0.0);
   EXPECT_NEAR(p.noise, kNoise, 0.35 * kNoise) << p.noise_source;
   EXPECT_NE(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
-  EXPECT_EQ(p.noise_dof, 25);
+  // Each held angle: 10 readings less 5 conditions and 2 settings' offsets (setting_scatter.h), plus 1.
+  EXPECT_EQ(p.noise_dof, 20);
 }
 
 // A reading less the same angle's at 0 kPa is exactly 0 there, in the log and the model: those conditions hold no
-// noise and count no degree of freedom (5 of the 25).
+// noise and count no degree of freedom (each held angle: 8 readings less 4 conditions and 2 settings, plus 1).
 TEST_F(AlternatingSweepNoise, ReadingsDefinedAsZeroCountNoDegreeOfFreedom) {
   const PreparedTrial p = prepared_sweep(0.8, 0.0, true);
-  EXPECT_EQ(p.noise_dof, 20);
+  EXPECT_EQ(p.noise_dof, 15);
   EXPECT_NEAR(p.noise, kNoise, 0.35 * kNoise) << p.noise_source;
 }
 
+// An offset each setting's readings share, ten times the sensor's noise: the readings' noise is still the sensor's,
+// and the offset is the setting scatter (estimated from ten settings, taken at the upper end of its 75 % interval).
+TEST_F(AlternatingSweepNoise, ASettingsSharedOffsetIsNotTheReadingsNoise) {
+  const PreparedTrial p = prepared_sweep(0.8, 0.0, false, 10.0 * kNoise);
+  EXPECT_NEAR(p.noise, kNoise, 0.35 * kNoise) << p.noise_source;
+  EXPECT_GT(p.setting_scatter, 5.0 * kNoise) << p.noise_source;
+  EXPECT_LT(p.setting_scatter, 25.0 * kNoise) << p.noise_source;
+  EXPECT_NE(p.noise_source.find("share an offset"), std::string::npos) << p.noise_source;
+  const PreparedTrial none = prepared_sweep(0.8, 0.0);
+  EXPECT_LT(none.setting_scatter, 2.0 * kNoise) << none.noise_source;
+}
+
 TEST_F(AlternatingSweepNoise, SuccessiveDifferencesWhereTheSidesDifferMore) {
-  // A side offset of 0.5 N m (a large hysteresis) and no misfit: the successive differences are the smaller.
+  // A side offset of up to 0.5 N m growing with the pressure (a large hysteresis; a setting's offset takes out only
+  // what its readings share) and no misfit: the successive differences are the smaller.
   const PreparedTrial p = prepared_sweep(1.0, 0.5);
   EXPECT_EQ(p.noise_source.find("either side"), std::string::npos) << p.noise_source;
   EXPECT_LT(p.noise, 0.2);
