@@ -4,8 +4,8 @@
 #include <cmath>
 #include <map>
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
+#include <Eigen/Dense>
 #include <boost/math/distributions/chi_squared.hpp>
 
 namespace softwrist::diagnosis {
@@ -28,7 +28,8 @@ std::vector<Setting> settings_of(const PreparedTrial& trial, const std::vector<d
   for (std::size_t i = 0; i < std::min(trial.points.size(), residuals.size()); ++i) {
     const Point& p = trial.points[i];
     if (p.setting < 0 || !std::isfinite(residuals[i])) continue;
-    if (settings.size() <= static_cast<std::size_t>(p.setting)) settings.resize(static_cast<std::size_t>(p.setting) + 1);
+    if (settings.size() <= static_cast<std::size_t>(p.setting))
+      settings.resize(static_cast<std::size_t>(p.setting) + 1);
     Setting& s = settings[static_cast<std::size_t>(p.setting)];
     s.station = p.unit;
     s.muscle = p.muscle;
@@ -114,8 +115,10 @@ void estimate_setting_scatter(PreparedTrial& trial, const std::vector<double>& r
   const double scatter2 = upper_bound(v) - trial.noise * trial.noise * inverse_n;
   if (!(scatter2 > 0.0)) return;
   trial.setting_scatter = std::sqrt(scatter2);
-  trial.noise_source += fmt::format("; the readings of one setting share an offset of {:.3g} {} (from {}, {} degrees of freedom, at the upper end of its 75 % interval)",
-                                    trial.setting_scatter, trial.unit, how, v.dof);
+  trial.noise_source += fmt::format(
+      "; the readings of one setting share an offset of {:.3g} {} (from {}, {} degrees of freedom, at the upper end "
+      "of its {:.0f} % interval)",
+      trial.setting_scatter, trial.unit, how, v.dof, 100.0 * kSettingScatterConfidence);
 }
 
 std::vector<double> whitened(const PreparedTrial& trial, std::vector<double> residuals, SplitPart part) {

@@ -137,9 +137,8 @@ TEST(SettingScatter, APressuresErrorWithinTheSettingsStaysSignificant) {
   for (int seed = 0; seed < kSeeds; ++seed) {
     PreparedTrial q = sweep(1);
     // Three times the reading noise at the highest pressure, nothing at 0 kPa: a fabric law that differs.
-    const std::vector<double> s = residuals(q, rng, kScatter, [](const Point& point) {
-      return 3.0 * kReadingNoise * point.pressure_kpa / 137.0;
-    });
+    const std::vector<double> s = residuals(
+        q, rng, kScatter, [](const Point& point) { return 3.0 * kReadingNoise * point.pressure_kpa / 137.0; });
     estimate_setting_scatter(q, s);
     detected += p_value(q, whitened(q, s)) < 0.01;
   }
