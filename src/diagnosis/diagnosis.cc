@@ -123,10 +123,10 @@ double rms(const std::vector<double>& r) {
   return std::sqrt(ss / static_cast<double>(r.size()));
 }
 
-// The systematic part of a trial's residuals `r` in units of its noise: sqrt(max(0, mean (r/noise)^2 - 1)), the
-// residuals whitened for the scatter a sweep's setting shares (setting_scatter.h).
-double excess_over_noise(const PreparedTrial& trial, const std::vector<double>& r) {
-  const double in_noise_units = rms(whitened(trial, r)) / trial.noise;
+// The systematic part of residuals `r` in units of `noise`: sqrt(max(0, mean (r/noise)^2 - 1)). A sweep's residuals
+// whitened for the scatter its settings share first (setting_scatter.h).
+double excess_over_noise(const std::vector<double>& r, double noise) {
+  const double in_noise_units = rms(r) / noise;
   return std::sqrt(std::max(0.0, in_noise_units * in_noise_units - 1.0));
 }
 
@@ -137,11 +137,11 @@ std::vector<std::vector<double>> residuals_of_all(const std::vector<PreparedTria
   return residuals;
 }
 
-// A trial's whole gap test (localization's "all").
-LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<double>& residuals) {
-  std::vector<std::size_t> all(residuals.size());
+// A trial's whole gap test (localization's "all"), on its whitened residuals (setting_scatter.h).
+LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<double>& white) {
+  std::vector<std::size_t> all(white.size());
   std::iota(all.begin(), all.end(), 0);
-  return group_test(trial, whitened(trial, residuals), all);
+  return group_test(trial, white, all);
 }
 
 // Each trial's gap with the nominal model: significant at family-wise rate alpha over the trials by Holm's step-down
@@ -156,8 +156,9 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
   std::vector<TrialGap> gaps;
   std::vector<double> p_values;
   for (std::size_t t = 0; t < prepared.size(); ++t) {
-    const LocalizationEntry e = trial_test(prepared[t], residuals[t]);
     const PreparedTrial& p = prepared[t];
+    const std::vector<double> white = whitened(p, residuals[t]);
+    const LocalizationEntry e = trial_test(p, white);
     TrialGap gap{.experiment = p.name,
                  .kind = p.trial->kind,
                  .unit = p.unit,
@@ -166,7 +167,7 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
                  .p_value = e.p_value,
                  .points = p.points.size()};
     gap.rms_nominal = rms(residuals[t]);
-    gap.excess_nominal = excess_over_noise(p, residuals[t]);
+    gap.excess_nominal = excess_over_noise(white, p.noise);
     gaps.push_back(gap);
     p_values.push_back(e.p_value);
   }
@@ -510,10 +511,11 @@ void measure_correction(Diagnosis& d, const GapProblem& problem, const Predictio
   d.gap_corrected = problem.heldout_error(problem.heldout_sums(corrected_full), nullptr, &gap_trials);
   for (std::size_t t = 0; t < problem.size(); ++t) {
     const std::vector<double> r = residuals_of(d.prepared[t], corrected_full[t]);
+    const std::vector<double> white = whitened(d.prepared[t], r);
     TrialGap& gap = d.trials[t];
     gap.rms_corrected = rms(r);
-    gap.excess_corrected = excess_over_noise(d.prepared[t], r);
-    gap.remaining_significant = trial_test(d.prepared[t], r).p_value < trial_alpha;
+    gap.excess_corrected = excess_over_noise(white, d.prepared[t].noise);
+    gap.remaining_significant = trial_test(d.prepared[t], white).p_value < trial_alpha;
     d.remaining_gap_significant = d.remaining_gap_significant || gap.remaining_significant;
   }
 }

@@ -154,7 +154,8 @@ Spread successive_differences(const PreparedTrial& prepared, const std::vector<d
 // offset (setting_scatter.h), which each estimate takes out first where some setting holds two readings in a row:
 // the noise is then the readings' own, and the offset's spread is estimated and weighed apart.
 void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residuals) {
-  const bool by_setting = successive_differences(prepared, residuals, true).dof >= 2;  // two pairs in a setting
+  const Spread within_settings = successive_differences(prepared, residuals, true);
+  const bool by_setting = within_settings.dof >= 2;  // two pairs of readings within a setting
   const auto spread = [&](int Point::*condition) {
     return by_setting ? spread_within_settings(prepared, residuals, condition)
                       : pooled_spread(prepared, residuals, condition);
@@ -167,7 +168,7 @@ void estimate_noise(PreparedTrial& prepared, const std::vector<double>& residual
     prepared.noise_source = "pooled spread of repeated measurements" + about;
     return;
   }
-  const Spread successive = successive_differences(prepared, residuals, by_setting);
+  const Spread successive = by_setting ? within_settings : successive_differences(prepared, residuals, false);
   const std::string differences = by_setting ? "successive differences within a setting" : "successive differences";
   prepared.noise = successive.sd;
   prepared.noise_dof = successive.dof;
