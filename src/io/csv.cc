@@ -1,5 +1,6 @@
 #include "io/csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -21,19 +22,74 @@ std::runtime_error error_at(const std::string& source, int line, const std::stri
   return std::runtime_error(source + ":" + std::to_string(line) + ": " + problem);
 }
 
-std::vector<std::string> split_cells(std::string_view line, const std::string& source, int line_number) {
-  if (line.find('"') != std::string_view::npos) {
-    throw error_at(source, line_number, "quoted cells are not supported");
+// One quoted cell (RFC 4180: '""' is a quote inside it) starting at line[start] == '"', unquoted into `cell`; returns
+// where it ends (at the comma after it, or the line's end). Spreadsheets quote text cells, and some every header.
+std::size_t quoted_cell(std::string_view line, std::size_t start, std::string& cell, const std::string& source,
+                        int line_number) {
+  std::size_t i = start + 1;
+  while (true) {
+    const auto quote = line.find('"', i);
+    if (quote == std::string_view::npos)
+      throw error_at(source, line_number, "a quoted cell does not end on its line (cells spanning lines are not read)");
+    cell.append(line.substr(i, quote - i));
+    if (quote + 1 < line.size() && line[quote + 1] == '"') {
+      cell.push_back('"');
+      i = quote + 2;
+      continue;
+    }
+    const auto comma = line.find(',', quote + 1);
+    const std::string_view after =
+        line.substr(quote + 1, comma == std::string_view::npos ? line.npos : comma - quote - 1);
+    if (!trim(after).empty()) throw error_at(source, line_number, "text after a quoted cell's closing quote");
+    return comma == std::string_view::npos ? line.size() : comma;
   }
+}
+
+std::vector<std::string> split_cells(std::string_view line, const std::string& source, int line_number) {
   std::vector<std::string> cells;
   std::size_t start = 0;
   while (true) {
-    const auto comma = line.find(',', start);
-    cells.emplace_back(trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
+    const auto first = line.find_first_not_of(" \t", start);
+    std::size_t end;
+    if (first != std::string_view::npos && line[first] == '"') {
+      std::string cell;
+      end = quoted_cell(line, first, cell, source, line_number);
+      cells.push_back(std::move(cell));
+    } else {
+      end = std::min(line.find(',', start), line.size());
+      const std::string_view cell = trim(line.substr(start, end - start));
+      if (cell.find('"') != std::string_view::npos)
+        throw error_at(source, line_number, "a quote inside an unquoted cell: '" + std::string(cell) + "'");
+      cells.emplace_back(cell);
+    }
+    if (end >= line.size()) break;
+    start = end + 1;
   }
   return cells;
+}
+
+// A header without a comma that a semicolon or tab separates: a spreadsheet's export in a decimal-comma locale (or a
+// tab-separated one), whose numbers would be misread; named rather than guessed.
+void check_separator(std::string_view header, const std::string& source, int line_number) {
+  if (header.find(',') != std::string_view::npos) return;
+  for (const auto& [separator, name] : {std::pair{';', "semicolons"}, std::pair{'\t', "tabs"}}) {
+    const auto count = std::count(header.begin(), header.end(), separator);
+    if (count > 0) {
+      throw error_at(source, line_number,
+                     "header: no comma, but " + std::to_string(count) + " " + name +
+                         ": export the table comma-separated, with decimal points");
+    }
+  }
+}
+
+// A cell as CSV text: quoted (RFC 4180) where it holds a comma or a quote, or starts or ends with a space, which the
+// reader would otherwise split or trim; as it is otherwise.
+std::string quoted_if_needed(const std::string& cell) {
+  const bool plain = cell.find_first_of(",\"\n\r") == std::string::npos && trim(cell).size() == cell.size();
+  if (plain) return cell;
+  std::string quoted = "\"";
+  for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
 }
 
 }  // namespace
@@ -44,6 +100,7 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source) {
   std::size_t position = 0;
   int line_number = 0;
   bool have_header = false;
+  if (text.starts_with("\xEF\xBB\xBF")) position = 3;  // a UTF-8 byte order mark (a spreadsheet's "CSV UTF-8")
   while (position < text.size()) {
     const auto end = text.find('\n', position);
     const std::string_view line =
@@ -52,6 +109,7 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source) {
     ++line_number;
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
+    if (!have_header) check_separator(content, source, line_number);
     auto cells = split_cells(content, source, line_number);
     if (!have_header) {
       for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -152,7 +210,7 @@ void CsvWriter::write_row(const std::vector<std::string>& cells) {
     throw std::logic_error(path_.string() + ": row of " + std::to_string(cells.size()) + " cells for " +
                            std::to_string(columns_) + " columns");
   }
-  for (std::size_t i = 0; i < cells.size(); ++i) file_ << (i ? "," : "") << cells[i];
+  for (std::size_t i = 0; i < cells.size(); ++i) file_ << (i ? "," : "") << quoted_if_needed(cells[i]);
   file_ << '\n';
   file_.flush();
   if (!file_) throw std::runtime_error(path_.string() + ": write failed");

@@ -14,8 +14,9 @@ namespace softwrist::io {
 
 class CsvTable {
  public:
-  // Parses `text`. Blank lines and lines starting with '#' are skipped; cells are trimmed; quoting is not
-  // supported (a '"' is an error). Throws std::runtime_error("<source>:<line>: <problem>").
+  // Parses `text`. A UTF-8 byte order mark is skipped, and so are blank lines and lines starting with '#'; cells are
+  // trimmed; a quoted cell (RFC 4180, '""' for a quote) must end on its line. A header that semicolons or tabs
+  // separate instead of commas is refused, named. Throws std::runtime_error("<source>:<line>: <problem>").
   static CsvTable Parse(const std::string& text, const std::string& source);
   static CsvTable Read(const std::filesystem::path& path);
 
@@ -43,7 +44,8 @@ class CsvTable {
   std::vector<int> lines_;
 };
 
-// Writes a CSV row by row, flushing each row so that a killed process leaves every written row readable.
+// Writes a CSV row by row (a cell with a comma, a quote or an outer space quoted, as the reader reads it), flushing
+// each row so that a killed process leaves every written row readable.
 class CsvWriter {
  public:
   // Creates (or truncates) `path` and writes the header row.

@@ -44,9 +44,27 @@ TEST(CsvTable, BadInputIsNamedByFileLineAndColumn) {
   EXPECT_THAT(error_of("angle_deg,torque\n1,2\n"),
               HasSubstr("ref.csv: missing column 'torque_nm' (columns: angle_deg, torque)"));
   EXPECT_THAT(error_of("angle_deg,angle_deg\n"), HasSubstr("appears twice"));
-  EXPECT_THAT(error_of("angle_deg,\"torque_nm\"\n"), HasSubstr("ref.csv:1: quoted cells"));
+  EXPECT_THAT(error_of("angle_deg,\"torque_nm\n"), HasSubstr("ref.csv:1: a quoted cell does not end on its line"));
+  EXPECT_THAT(error_of("angle_deg,\"torque\"_nm\n"), HasSubstr("ref.csv:1: text after a quoted cell's closing quote"));
+  EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2\"\n"), HasSubstr("ref.csv:2: a quote inside an unquoted cell: '2\"'"));
   EXPECT_THAT(error_of(""), HasSubstr("ref.csv: empty file"));
   EXPECT_THAT(error_of("angle_deg,torque_nm\n1,2x\n"), HasSubstr("not a number"));
+}
+
+// What spreadsheets export: a byte order mark ("CSV UTF-8"), CRLF line ends, quoted text cells; and in a
+// decimal-comma locale semicolons, which are refused by name rather than misread.
+TEST(CsvTable, ReadsSpreadsheetExportsAndNamesSemicolonsAndTabs) {
+  const CsvTable table = CsvTable::Parse(
+      "\xEF\xBB\xBF\"angle_deg\",\"case\"\r\n-1.5, \"steps, \"\"slow\"\"\" \r\n2,\"\"\r\n", "export.csv");
+  ASSERT_EQ(table.row_count(), 2u);
+  EXPECT_EQ(table.column("angle_deg"), 0);
+  EXPECT_EQ(table.number(0, 0), -1.5);
+  EXPECT_EQ(table.cell(0, 1), "steps, \"slow\"");
+  EXPECT_EQ(table.cell(1, 1), "");
+  EXPECT_THAT(error_of("angle_deg;torque_nm\n1,5;2\n"),
+              HasSubstr("ref.csv:1: header: no comma, but 1 semicolons: export the table comma-separated"));
+  EXPECT_THAT(error_of("# rig 2\nangle_deg\ttorque_nm\n"), HasSubstr("ref.csv:2: header: no comma, but 1 tabs"));
+  EXPECT_EQ(error_of("torque_nm\n1\n"), "");  // one column needs no separator
 }
 
 // Counts and case indices: whole numbers within int's range, checked before any cast (a count of 2e20 was cast to
@@ -63,16 +81,19 @@ TEST(CsvTable, IntegerCellsAreWholeAndWithinIntsRange) {
   }
 }
 
-TEST(CsvWriter, RoundTripsNumbersExactly) {
+TEST(CsvWriter, RoundTripsNumbersExactlyAndTextCells) {
   const auto path =
       std::filesystem::temp_directory_path() / ("softwrist_csv_test_" + std::to_string(::getpid()) + ".csv");
   {
     CsvWriter writer(path, {"a", "b"});
     writer.write_row({format_number(0.1), format_number(-1.0 / 3.0)});
+    writer.write_row({"steps, \"slow\"", " padded "});  // text cells come back as they went in
   }
   const CsvTable table = CsvTable::Read(path);
   EXPECT_EQ(table.number(0, 0), 0.1);
   EXPECT_EQ(table.number(0, 1), -1.0 / 3.0);
+  EXPECT_EQ(table.cell(1, 0), "steps, \"slow\"");
+  EXPECT_EQ(table.cell(1, 1), " padded ");
   std::filesystem::remove(path);
 }
 
