@@ -11,6 +11,7 @@
 // the kinds, so that a long trajectory does not drown a torque sweep.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -206,6 +207,9 @@ struct TrialGap {
   std::size_t points = 0;
   // Its held-out systematic residual (noise units) with the base the combination's leader was fitted on.
   double heldout_excess_leader_base = 0.0;
+  // The same with the nominal's tolerances fitted to this trial alone (on its training part): measured only on a
+  // trial that a combination's second member is a candidate to be reported on (second_effect_trial), NaN elsewhere.
+  double heldout_excess_within_alone = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Diagnosis {

@@ -66,6 +66,7 @@ nlohmann::json trial_json(const TrialGap& t) {
           {"gap", t.gap},
           {"remaining_significant", t.remaining_significant},
           {"heldout_excess_leader_base", t.heldout_excess_leader_base},
+          {"heldout_excess_within_alone", t.heldout_excess_within_alone},
           {"points", t.points}};
 }
 
