@@ -784,7 +784,7 @@ std::vector<std::size_t> second_effect_candidates(const Diagnosis& d, const Diag
 // leader or, where lower, with the tolerances fitted to it alone (TrialGap::heldout_excess_within_alone; not measured,
 // the leader's). The tolerance fit over every trial trades one trial for the others, and what the tolerances close on
 // a trial by themselves holds no second effect. On the independent device's development data (seeds 41 and 42, read
-// after their reports): an elliptical wrist named `wrap_geometry`, whose tolerance fit left the tensile test 6.9 noise
+// after their reports): an elliptical wrap named `wrap_geometry`, whose tolerance fit left the tensile test 6.9 noise
 // units off (0.8 in the same seed's other data sets, the same fabric), had `fpam_params` reported beside it; another,
 // `passive_wrist`, on ellipses the tolerances alone bring to 0.0 and 1.75 noise units, where the wrist had cut 3.8
 // and 3.7.
