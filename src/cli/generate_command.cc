@@ -61,7 +61,8 @@ void add_generate_command(CLI::App& app, std::ostream& out) {
   command->add_option("--out", o->out, "Output directory");
   command->add_option("--seed", o->seed, "Seed of the device's variation, the conventions and the noise (default 1)");
   command->add_option("--effect", o->effects, "FORM or FORM:LEVEL (level in (0, 1], default 1); repeatable");
-  command->add_option("--trajectory-s", o->trajectory_s, "Length of each tracking trial (default 24 s)");
+  command->add_option("--trajectory-s", o->trajectory_s,
+                      "Length of each tracking trial (default 24 s; diagnose-bench's data sets are 12 s)");
   command->add_flag("--list-forms", o->list, "List the effect forms and the label a diagnosis should name");
   command->callback([o, &out] { run_generate(*o, out); });
 }
