@@ -207,8 +207,8 @@ struct TrialGap {
   std::size_t points = 0;
   // Its held-out systematic residual (noise units) with the base the combination's leader was fitted on.
   double heldout_excess_leader_base = 0.0;
-  // The same with the nominal's tolerances fitted to this trial alone (on its training part): measured only on a
-  // trial that a combination's second member is a candidate to be reported on (second_effect_trial), NaN elsewhere.
+  // The same with the nominal's tolerances fitted to this trial alone (on its training part): measured only on the
+  // trials a combination's second member is a candidate to be reported on, in order until one keeps it; NaN elsewhere.
   double heldout_excess_within_alone = std::numeric_limits<double>::quiet_NaN();
 };
 
