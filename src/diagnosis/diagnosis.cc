@@ -1046,8 +1046,9 @@ void none_without_evidence(Diagnosis& d, const DiagnosisOptions& options) {
 // A tolerance the nominal's fit pins at an edge of its box, where the catalogue effect owning it, fitted alone, takes
 // the same parameter beyond that edge and closes at least explained_fraction of the held-out error: the device lies
 // beyond its tolerance there, and the tolerances absorbed the effect only by spending that box whole. A nominal
-// within its tolerances fits at the edges too (its regulator's time constant: all 27 data sets of seed 43), but the
-// effect owning such an edge closes nothing alone (0.01 of the nominal's error, seed 43). The best-ranked such effect.
+// within its tolerances fits at the edges too (its regulator's time constant: 26 of the 27 data sets of seed 43), but
+// the effect owning such an edge closes little alone (0.01 of the nominal's error, seed 43; the relaxed wrist's 0 and
+// 0.05 on the nominals of seeds 41 and 42, whose damping and stiffness were pinned). The best-ranked such effect.
 struct PinnedBeyond {
   const EffectFit* effect = nullptr;
   std::string parameter;      // "mount_stretch.K_series_n_per_cm2"
