@@ -102,9 +102,15 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing), why);
   out << fmt::format("held-out error ({}): nominal {:.3f}, corrected {:.3f}\n", diagnosis::kErrorMetric,
                      d.heldout_nominal, d.heldout_corrected);
-  out << fmt::format(
-      "the same over the trials with a significant gap: nominal {:.3f}, corrected {:.3f} (closed {:.1f} %)\n",
-      d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed());
+  const bool any_gap = std::any_of(d.trials.begin(), d.trials.end(), [](const auto& t) { return t.gap; });
+  if (any_gap) {
+    out << fmt::format(
+        "the same over the trials with a significant gap: nominal {:.3f}, corrected {:.3f} (closed {:.1f} %)\n",
+        d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed());
+  } else {
+    // Not "closed 0.0 %": there was no gap to close (a `none`, or an effect named from a pinned tolerance).
+    out << "no trial has a significant gap (within the tolerances, where fitted): nothing to close\n";
+  }
   out << "effect            shrink   95% CI            held-out after  params\n";
   for (const auto& f : d.effects) {
     if (!f.applicable) {

@@ -48,6 +48,10 @@ TEST_F(CliDiagnose, SynthesizeImportAndDiagnoseWriteTheReport) {
   for (const auto& t : json["trials"]) experiments.insert(t["experiment"].get<std::string>());
   EXPECT_TRUE(experiments.contains("mine/trials")) << json["trials"].dump();
   EXPECT_TRUE(experiments.contains("trajectory/trials:case 0 pressures")) << json["trials"].dump();
+  // The gap closed is printed only where some trial had a gap to close.
+  bool any_gap = false;
+  for (const auto& t : json["trials"]) any_gap = any_gap || t["gap"].get<bool>();
+  EXPECT_THAT(d.out, HasSubstr(any_gap ? "the same over the trials with a significant gap" : "nothing to close"));
   EXPECT_TRUE(fs::exists(dir_ / "diag/diagnosis.html"));
 }
 
