@@ -1043,12 +1043,14 @@ void none_without_evidence(Diagnosis& d, const DiagnosisOptions& options) {
   d.verdict = "none";
 }
 
-// A tolerance the nominal's fit pins at an edge of its box, where the catalogue effect owning it, fitted alone, takes
-// the same parameter beyond that edge and closes at least explained_fraction of the held-out error: the device lies
-// beyond its tolerance there, and the tolerances absorbed the effect only by spending that box whole. A nominal
-// within its tolerances fits at the edges too (its regulator's time constant: 26 of the 27 data sets of seed 43), but
-// the effect owning such an edge closes little alone (0.01 of the nominal's error, seed 43; the relaxed wrist's 0 and
-// 0.05 on the nominals of seeds 41 and 42, whose damping and stiffness were pinned). The best-ranked such effect.
+// A tolerance the nominal's fit pins at an edge of its box, where the effect that leads the combination (the corrected
+// model's), fitted alone, takes the same catalogue parameter beyond that edge and closes at least explained_fraction of
+// the held-out error of the nominal as placed: the device lies beyond its tolerance there, and the tolerances absorbed
+// the effect only by spending that box whole. A nominal within its tolerances fits at the edges too (its regulator's
+// time constant: 26 of the 27 data sets of seed 43), but the effect owning such an edge closes little alone (0.01 of
+// the nominal's error, seed 43; the relaxed wrist's 0 and 0.05 on the nominals of seeds 41 and 42, whose damping and
+// stiffness were pinned). Only a fit without its extensions (EffectFit::extended): an exponent, a preload or a shaped
+// share changes what its series stiffness means, which the tolerance's box does not.
 struct PinnedBeyond {
   const EffectFit* effect = nullptr;
   std::string parameter;      // "mount_stretch.K_series_n_per_cm2"
@@ -1056,20 +1058,26 @@ struct PinnedBeyond {
   double effect_value = 0.0;  // the effect's own, beyond it
 };
 std::optional<PinnedBeyond> effect_beyond_pinned_tolerance(const Diagnosis& d, const DiagnosisOptions& options) {
+  if (d.combination.empty()) return std::nullopt;
+  const auto lead = std::find_if(d.effects.begin(), d.effects.end(),
+                                 [&](const EffectFit& e) { return e.id == d.combination.front().id; });
+  if (lead == d.effects.end() || !lead->applicable || lead->extended ||
+      lead->shrink_fraction < options.explained_fraction)
+    return std::nullopt;
   const ToleranceFit& fit = d.tolerance;
-  for (const EffectFit& e : d.effects) {
-    if (!e.applicable || e.shrink_fraction < options.explained_fraction) continue;
-    for (std::size_t k = 0; k < fit.params.size(); ++k) {
-      const auto& [name, within] = fit.params[k];
-      const bool pinned =
-          k < fit.moved.size() && std::find(fit.at_bound.begin(), fit.at_bound.end(), name) != fit.at_bound.end();
-      if (!pinned || !name.starts_with(e.name + ".")) continue;
-      const std::string own = name.substr(e.name.size() + 1);
-      const auto value = std::find_if(e.params.begin(), e.params.end(), [&](const auto& p) { return p.first == own; });
-      if (value == e.params.end()) continue;
-      const bool beyond = fit.moved[k] < 0.0 ? value->second < within : value->second > within;
-      if (beyond) return PinnedBeyond{.effect = &e, .parameter = name, .within = within, .effect_value = value->second};
-    }
+  for (std::size_t k = 0; k < fit.params.size(); ++k) {
+    const auto& [name, within] = fit.params[k];
+    const bool pinned = std::find(fit.at_bound.begin(), fit.at_bound.end(), name) != fit.at_bound.end();
+    if (!pinned || !name.starts_with(lead->name + ".")) continue;
+    if (k >= fit.boxes.size()) throw std::logic_error("a tolerance fit without the boxes of its parameters");
+    const std::string own = name.substr(lead->name.size() + 1);
+    const auto value =
+        std::find_if(lead->params.begin(), lead->params.end(), [&](const auto& p) { return p.first == own; });
+    if (value == lead->params.end()) continue;
+    const auto [low, high] = fit.boxes[k];
+    const bool at_low = std::abs(within - low) < std::abs(within - high);
+    if (at_low ? value->second < low : value->second > high)
+      return PinnedBeyond{.effect = &*lead, .parameter = name, .within = within, .effect_value = value->second};
   }
   return std::nullopt;
 }

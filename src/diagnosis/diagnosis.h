@@ -84,7 +84,9 @@ struct DiagnosisOptions {
   // best mean rate, 0.4 nearest the setting in use, 0.76 against 0.67 for the 0.5, 0.3, 2 chosen on the same seed by
   // commit bdaaa44 and in use until then; two single forms more named and one outside form more `unexplained`). The
   // first calibration's 0.6 came from the catalogue generator's seeds 1001-1005, where single effects closed 0.63-0.99
-  // of their gap.
+  // of their gap. Also the share of the held-out error of the nominal as placed, over every trial, that an effect
+  // owning a tolerance pinned at its edge must close alone to be named where no trial keeps a gap (diagnosis.cc,
+  // effect_beyond_pinned_tolerance).
   double explained_fraction = 0.4;
   // A device has several unmodelled effects at once. When no effect closes explained_fraction alone but the
   // combination does, the verdict names the combination's leading effect if that alone closes at least this much,
@@ -115,7 +117,8 @@ struct DiagnosisOptions {
   double second_untouched_fraction = 0.1;
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
-  // leaves one, so that a device differing from its placement file only within its tolerances is `none`.
+  // leaves one, so that a device differing from its placement file only within its tolerances is `none` (unless the
+  // fit spends a box whole that the leading effect alone takes further: diagnosis.cc, effect_beyond_pinned_tolerance).
   Tolerances tolerances;
   int tolerance_evaluations = 200;  // the tolerance fit's budget of replays (its Jacobians included)
   // After the greedy combination, refit all its parameters together (joint_refit.h) with this budget of replays; 0:
@@ -145,6 +148,7 @@ struct ToleranceFit {
   std::vector<std::pair<std::string, double>> params;  // the free ones: "fpam_params.r0_scale" -> value
   std::vector<double> moved;  // per param: how far from the nominal, as a fraction of the box's side it moved into
   std::vector<std::string> at_bound;  // free parameters fitted at an edge of their box: possibly beyond tolerance
+  std::vector<std::pair<double, double>> boxes;  // per param: its box, low and high (the nominal within it)
   double train_error_before = 0.0, train_error_after = 0.0;
   double heldout_error_as_placed = 0.0, heldout_error_within = 0.0;  // held out, the nominal as placed and fitted
   int evaluations = 0;

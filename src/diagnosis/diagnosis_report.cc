@@ -111,12 +111,16 @@ std::vector<std::string> summary_lines(const Diagnosis& d) {
   std::vector<std::string> lines = {
       fmt::format("<b>Verdict: {}</b>. {}", html_escape(d.verdict), html_escape(d.reason))};
   const auto gap_trials = std::count_if(d.trials.begin(), d.trials.end(), [](const TrialGap& t) { return t.gap; });
-  lines.push_back(fmt::format(
-      "Held-out error, the systematic residual in noise units: {:.3f} with the nominal model and {:.3f} corrected "
-      "over all {} trials; over the {} trials with a gap of their own, {:.3f} and {:.3f}: the correction closes "
-      "{:.0f} % of it.",
-      d.heldout_nominal, d.heldout_corrected, d.trials.size(), gap_trials, d.gap_nominal, d.gap_corrected,
-      100.0 * d.gap_closed()));
+  const std::string overall = fmt::format(
+      "Held-out error, the systematic residual in noise units: {:.3f} with the nominal model and {:.3f} "
+      "corrected over all {} trials",
+      d.heldout_nominal, d.heldout_corrected, d.trials.size());
+  // Without a trial that keeps a gap there is nothing to close (a `none`, or an effect named from a pinned tolerance).
+  lines.push_back(gap_trials == 0
+                      ? overall + "; no trial keeps a gap of its own, so the correction has none to close."
+                      : fmt::format("{}; over the {} trials with a gap of their own, {:.3f} and {:.3f}: the "
+                                    "correction closes {:.0f} % of it.",
+                                    overall, gap_trials, d.gap_nominal, d.gap_corrected, 100.0 * d.gap_closed()));
   std::vector<std::string> remaining;
   for (const TrialGap& t : d.trials) {
     if (!t.remaining_significant) continue;

@@ -3,7 +3,8 @@
 // file: an fPAM's r0 and eps_max scatter from one fit to the next, a wrist radius is measured on soft tissue, a relaxed
 // wrist is stiffer one day than the next. The diagnosis's null hypothesis is therefore "the nominal model, anywhere
 // within these tolerances", not "the nominal model exactly": a device that differs from its placement file only
-// within them is `none`, and an effect is what lies beyond them. All zero gives the nominal exactly.
+// within them is `none`, and an effect is what lies beyond them (or what spends a box whole and goes further alone:
+// diagnosis.cc, effect_beyond_pinned_tolerance). All zero gives the nominal exactly.
 
 #include <filesystem>
 #include <optional>

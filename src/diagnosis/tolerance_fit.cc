@@ -250,6 +250,7 @@ void report_knobs(const std::vector<Knob>& knobs, const std::vector<double>& x, 
   for (std::size_t k = 0; k < knobs.size(); ++k) {
     const Knob& knob = knobs[k];
     fit.params.emplace_back(knob.name, x[k]);
+    fit.boxes.emplace_back(knob.low, knob.high);
     const double side = x[k] >= knob.nominal ? knob.high - knob.nominal : knob.nominal - knob.low;
     fit.moved.push_back(side > 0.0 ? (x[k] - knob.nominal) / side : 0.0);
     const double edge = 0.02 * (knob.high - knob.low);
