@@ -49,6 +49,7 @@ struct DiagnoseOptions {
   std::string tolerances;  // a tolerance file
   bool no_tolerances = false;
   bool rank_beyond_tolerances = false;
+  bool repeat_mean_test = false;
   std::string effect_base = "better";
   bool pressures_from_commands = false;
   std::string routing = "auto";
@@ -75,6 +76,7 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   if (o.no_tolerances && options.effect_base == diagnosis::EffectBase::kWithinTolerances)
     throw UsageError("--effect-base within-tolerances needs the tolerances; it excludes --no-tolerances");
   options.rank_beyond_tolerances = o.rank_beyond_tolerances;
+  options.repeat_mean_test = o.repeat_mean_test;
   if (!o.tolerances.empty()) options.tolerances = diagnosis::read_tolerances(o.tolerances);
   if (o.routing != "auto") {
     options.routing = sim::parse_routing(o.routing);
@@ -355,8 +357,9 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   const bool independent = o.generator == "independent";
   if (!independent && o.generator != "catalogue")
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
-  for (const char* only : {"--shard", "--out", "--merge", "--calibrate", "--redecide", "--forms", "--no-pairs",
-                           "--min-level", "--torque-rig", "--prototype", "--rank-beyond-tolerances"}) {
+  for (const char* only :
+       {"--shard", "--out", "--merge", "--calibrate", "--redecide", "--forms", "--no-pairs", "--min-level",
+        "--torque-rig", "--prototype", "--rank-beyond-tolerances", "--repeat-mean-test"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
@@ -457,6 +460,8 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
   add_effect_base_option(*bench, b->effect_base);
   bench->add_flag("--rank-beyond-tolerances", b->independent.rank_beyond_tolerances,
                   "independent: diagnose as diagnose --rank-beyond-tolerances does (experimental)");
+  bench->add_flag("--repeat-mean-test", b->independent.repeat_mean_test,
+                  "independent: diagnose as diagnose --repeat-mean-test does (experimental)");
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
@@ -495,6 +500,9 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_flag("--rank-beyond-tolerances", d->rank_beyond_tolerances,
                      "Experimental: rank the effects fitted on top of the nominal within its tolerances, and decide "
                      "there (docs/diagnosis.md)");
+  diagnose->add_flag("--repeat-mean-test", d->repeat_mean_test,
+                     "Experimental: a repeated task's repetitions have a gap also where their mean does "
+                     "(docs/diagnosis.md)");
   add_effect_base_option(*diagnose, d->effect_base);
   diagnose->add_flag("--pressures-from-commands", d->pressures_from_commands,
                      "Replay trajectories from their commands through the simulated regulators even where the log "

@@ -6,6 +6,7 @@
 #include <future>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -20,6 +21,7 @@
 #include "diagnosis/effect_fit.h"
 #include "diagnosis/gap_problem.h"
 #include "diagnosis/joint_refit.h"
+#include "diagnosis/repeat_noise.h"
 #include "diagnosis/setting_scatter.h"
 #include "diagnosis/tolerance.h"
 #include "diagnosis/tolerance_fit.h"
@@ -145,17 +147,21 @@ LocalizationEntry trial_test(const PreparedTrial& trial, const std::vector<doubl
   return group_test(trial, white, all);
 }
 
-// Each trial's gap with the nominal model: significant at family-wise rate alpha over the trials by Holm's step-down
-// procedure (localization.h), which rejects at least what Bonferroni's alpha / trials does. A data set has one gap test
+// Each trial's gap with the nominal model: significant at family-wise rate alpha over the tests by Holm's step-down
+// procedure (localization.h), which rejects at least what Bonferroni's alpha / tests does. A data set has one gap test
 // per trial, and an effect that moves a whole experiment moves many trials at once: once the tensile test, the sweep
-// and the pressures have rejected, an angle trial is tested at alpha over the trials left, not over all of them (the
+// and the pressures have rejected, an angle trial is tested at alpha over the tests left, not over all of them (the
 // independent device's seed 38, an IMU 0.14 s late: 11 of 17 trials rejected first, and an ellipse 2.3 noise units off
-// at p 0.0015 was then tested against 0.01 / 6, not Bonferroni's 0.01 / 17).
+// at p 0.0015 was then tested against 0.01 / 6, not Bonferroni's 0.01 / 17). Each repeated task is also tested whole,
+// on its repetitions' mean (repeat_noise.h), and reported with each repetition; with `repeat_mean_test` that test
+// joins the family, and a repetition is significant where its task is and the mean's systematic residual reaches
+// min_gap (the error the repetitions share, not one repetition's wander).
 std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepared,
                                          const std::vector<std::vector<double>>& residuals, double alpha,
-                                         double min_gap) {
+                                         double min_gap, bool repeat_mean_test) {
   std::vector<TrialGap> gaps;
   std::vector<double> p_values;
+  std::map<int, std::vector<std::size_t>> sets;
   for (std::size_t t = 0; t < prepared.size(); ++t) {
     const PreparedTrial& p = prepared[t];
     const std::vector<double> white = whitened(p, residuals[t]);
@@ -171,12 +177,26 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
     gap.excess_nominal = excess_over_noise(white, p.noise);
     gaps.push_back(gap);
     p_values.push_back(e.p_value);
+    if (p.repeat_set >= 0) sets[p.repeat_set].push_back(t);
+  }
+  std::vector<std::pair<std::vector<std::size_t>, RepeatMeanTest>> tasks;
+  for (const auto& [id, set] : sets) {
+    if (set.size() < 2) continue;
+    tasks.emplace_back(set, diagnosis::repeat_mean_test(prepared, residuals, set));
+    if (repeat_mean_test) p_values.push_back(tasks.back().second.p_value);
   }
   const std::vector<bool> significant = holm_significant(p_values, alpha);
-  for (std::size_t t = 0; t < gaps.size(); ++t) {
-    gaps[t].significant = significant[t];
-    gaps[t].gap = gaps[t].significant && gaps[t].excess_nominal >= min_gap;
+  for (std::size_t t = 0; t < gaps.size(); ++t) gaps[t].significant = significant[t];
+  for (std::size_t k = 0; k < tasks.size(); ++k) {
+    const auto& [set, test] = tasks[k];
+    const bool task_gap = repeat_mean_test && significant[gaps.size() + k] && test.excess >= min_gap;
+    for (std::size_t t : set) {
+      gaps[t].repeat_p_value = test.p_value;
+      gaps[t].repeat_excess = test.excess;
+      gaps[t].significant = gaps[t].significant || task_gap;
+    }
   }
+  for (auto& gap : gaps) gap.gap = gap.significant && gap.excess_nominal >= min_gap;
   return gaps;
 }
 
@@ -192,10 +212,11 @@ void check_within_tolerances(Diagnosis& d, const GapProblem& problem, const Mode
   if (d.tolerance.params.empty()) return;
   d.tolerance.full = problem.evaluate(*d.tolerance.variant, false);
   d.tolerance.heldout_error_within = problem.heldout_error(problem.heldout_sums(d.tolerance.full));
-  const std::vector<TrialGap> within =
-      nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, d.tolerance.full), options.alpha, options.min_gap);
+  const std::vector<TrialGap> within = nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, d.tolerance.full),
+                                                          options.alpha, options.min_gap, options.repeat_mean_test);
   for (std::size_t t = 0; t < d.trials.size(); ++t) {
     d.trials[t].excess_within_tolerance = within[t].excess_nominal;
+    d.trials[t].repeat_excess_within_tolerance = within[t].repeat_excess;
     d.trials[t].gap = d.trials[t].gap && within[t].gap;
   }
 }
@@ -706,8 +727,9 @@ EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
 // The trials that still have a gap (significant, and min_gap noise units) with `model`.
 std::vector<bool> gaps_left(const Diagnosis& d, const GapProblem& problem, const ModelVariant& model,
                             const DiagnosisOptions& options) {
-  const std::vector<TrialGap> gaps = nominal_trial_gaps(
-      d.prepared, residuals_of_all(d.prepared, problem.evaluate(model, false)), options.alpha, options.min_gap);
+  const std::vector<TrialGap> gaps =
+      nominal_trial_gaps(d.prepared, residuals_of_all(d.prepared, problem.evaluate(model, false)), options.alpha,
+                         options.min_gap, options.repeat_mean_test);
   std::vector<bool> left;
   for (const TrialGap& t : gaps) left.push_back(t.gap);
   return left;
@@ -1031,7 +1053,10 @@ void none_without_evidence(Diagnosis& d, const DiagnosisOptions& options) {
   const TrialGap* largest = nullptr;
   double largest_left = 0.0;
   for (const TrialGap& t : d.trials) {
-    const double left = within ? t.excess_within_tolerance : t.excess_nominal;
+    double left = within ? t.excess_within_tolerance : t.excess_nominal;
+    // With the tasks tested whole, a repetition evidences no more than the error its task's repetitions share.
+    const double shared = within ? t.repeat_excess_within_tolerance : t.repeat_excess;
+    if (options.repeat_mean_test && std::isfinite(shared)) left = std::min(left, shared);
     if (t.gap && left >= largest_left) largest = &t, largest_left = left;
   }
   if (largest == nullptr || largest_left >= options.contradiction_gap) return;
@@ -1155,7 +1180,7 @@ void diagnose_prepared(Diagnosis& d, ReplayEngine& engine, const ModelVariant& n
   const std::vector<std::vector<double>> residuals = residuals_of_all(d.prepared, nominal_full);
   d.localization = localize(d.prepared, residuals, nominal_device, options.alpha);
   d.heldout_nominal = problem.heldout_error(problem.heldout_sums(nominal_full));
-  d.trials = nominal_trial_gaps(d.prepared, residuals, options.alpha, options.min_gap);
+  d.trials = nominal_trial_gaps(d.prepared, residuals, options.alpha, options.min_gap, options.repeat_mean_test);
   const BaseModel reference{.variant = nominal, .training = nominal_training, .full = nominal_full};
   // The effects' searches from the nominal as placed read neither the tolerance fit nor the scored trials: with more
   // than one job they run while the tolerances are fitted (each on `jobs` threads), whose Levenberg-Marquardt steps,

@@ -129,6 +129,10 @@ struct DiagnosisOptions {
   // the effects fitted from the nominal as placed. It names a regulator that vents slowly and an fPAM in another form,
   // but loses the two-rig mount stiffness and the second of two effects (measured in the README).
   bool rank_beyond_tolerances = false;
+  // Experimental, off by default (docs/diagnosis.md, "Repeated tasks tested whole"): a repetition of a repeated task
+  // is significant also where its task's test on the repetitions' mean is (repeat_noise.h, repeat_mean_test) and that
+  // mean keeps min_gap noise units. Either way each repetition reports the task's test (TrialGap::repeat_p_value).
+  bool repeat_mean_test = false;
   // The model each effect is fitted from, and the combination grown from (EffectBase). The default fits each effect
   // from both (the second where the first leaves a gap) and keeps the fit that predicts the held-out data better:
   // measured on the independent device (README), 10 of 17 single forms named against 7 from the nominal as placed, with
@@ -203,6 +207,12 @@ struct TrialGap {
   // nominal as placed, the corrected model, and the nominal within its tolerances (where they were fitted).
   double excess_nominal = 0.0, excess_corrected = 0.0, excess_within_tolerance = 0.0;
   double p_value = 1.0;  // of its nominal residual being noise alone (localization's "all")
+  // A repetition of a repeated task: the task's test on the repetitions' mean and the mean's systematic residual in
+  // noise units (repeat_noise.h, repeat_mean_test); NaN for a trial that repeats no task.
+  double repeat_p_value = std::numeric_limits<double>::quiet_NaN();
+  double repeat_excess = std::numeric_limits<double>::quiet_NaN();
+  double repeat_excess_within_tolerance = std::numeric_limits<double>::quiet_NaN();  // the same, within them
+  // Its own test, or (DiagnosisOptions::repeat_mean_test) its task's where the mean keeps min_gap noise units.
   bool significant = false;
   // Significant and at least min_gap noise units: a gap of its own, however clean the other trials are; and so with
   // the nominal within its tolerances too, where they were fitted.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -10,6 +11,8 @@
 #include <Eigen/Dense>
 
 #include <fmt/format.h>
+
+#include "diagnosis/localization.h"
 
 namespace softwrist::diagnosis {
 namespace {
@@ -337,6 +340,7 @@ void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<st
     for (std::size_t t : set) repeated[t] = true;
     if (!(s.noise2 > 0.0)) continue;
     for (std::size_t t : set) {
+      trials[t].repeat_set = static_cast<int>(spreads.size() - 1);
       raise_to(trials[t], s, (static_cast<int>(set.size()) - 1) * std::max(1, s.units),
                fmt::format("spread of the nominal residuals across {} repetitions of the task", set.size()));
     }
@@ -359,6 +363,47 @@ void apply_repeat_noise(std::vector<PreparedTrial>& trials, const std::vector<st
              fmt::format("spread of the nominal residuals across {} repetitions of {} on the same sensors", set.size(),
                          trials[set.front()].name));
   }
+}
+
+RepeatMeanTest repeat_mean_test(const std::vector<PreparedTrial>& trials,
+                                const std::vector<std::vector<double>>& residuals,
+                                const std::vector<std::size_t>& set) {
+  RepeatMeanTest out;
+  if (set.size() < 2) return out;
+  const PreparedTrial& first = trials[set.front()];
+  const std::size_t channels = first.pressures ? 4 : 2;
+  const double k = static_cast<double>(set.size());
+  std::size_t rows = rows_of(first);
+  double noise2 = 0.0, block2 = 0.0;  // the members' mean noise variance, and n x a group mean's variance
+  int dof = std::numeric_limits<int>::max();
+  for (std::size_t t : set) {
+    if (residuals[t].size() < channels * rows_of(trials[t]) || trials[t].points.size() < channels * rows_of(trials[t]))
+      return out;
+    rows = std::min(rows, rows_of(trials[t]));
+    noise2 += trials[t].noise * trials[t].noise / k;
+    block2 += trials[t].noise * trials[t].noise * trials[t].group_inflation / k;
+    dof = std::min(dof, trials[t].noise_dof);
+  }
+  if (!(noise2 > 0.0) || rows == 0) return out;
+  std::map<int, std::pair<double, int>> groups;
+  double ss = 0.0;
+  for (std::size_t c = 0; c < channels; ++c) {
+    for (std::size_t i = 0; i < rows; ++i) {
+      double mean = 0.0;
+      for (std::size_t t : set) mean += residuals[t][c * rows_of(trials[t]) + i] / k;
+      if (!std::isfinite(mean)) return out;
+      ss += mean * mean;
+      auto& g = groups[first.points[c * rows_of(first) + i].group];
+      g.first += mean;
+      ++g.second;
+    }
+  }
+  double weighted = 0.0;  // sum n_g r_g^2
+  for (const auto& [id, g] : groups) weighted += g.first * g.first / g.second;
+  const double blocks = static_cast<double>(groups.size());
+  out.p_value = f_test_p_value(weighted / (blocks * block2 / k), blocks, dof);
+  out.excess = std::sqrt(std::max(0.0, ss / static_cast<double>(channels * rows) / noise2 - 1.0 / k));
+  return out;
 }
 
 }  // namespace softwrist::diagnosis

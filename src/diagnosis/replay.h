@@ -82,6 +82,8 @@ struct PreparedTrial {
   // 0 where none was found.
   double setting_scatter = 0.0;
   double training_end_s = 0.0;  // trajectories: the training part ends here
+  // Trajectories: the repeated task it is one repetition of (repeat_noise.h, an index into repeat_sets), -1 for none.
+  int repeat_set = -1;
 };
 
 // Whether `effect` changes `trial`'s replay: a kind it acts on, and not the angles of a trajectory replayed from its

@@ -104,6 +104,7 @@ TEST_F(CliDiagnose, BadArgumentsAndInputsNameTheProblem) {
       {{"diagnose-bench", "--shard", "1/2"}, 2, "--shard needs --generator independent"},
       {{"diagnose-bench", "--calibrate", empty}, 2, "--calibrate needs --generator independent"},
       {{"diagnose-bench", "--rank-beyond-tolerances"}, 2, "--rank-beyond-tolerances needs --generator independent"},
+      {{"diagnose-bench", "--repeat-mean-test"}, 2, "--repeat-mean-test needs --generator independent"},
       {{"diagnose-bench", "--generator", "independent", "--redecide"}, 2, "--redecide needs --merge"},
       {{"diagnose-bench", "--generator", "independent", "--variation", "2"}, 2, "--variation is the catalogue"},
       {{"diagnose-bench", "--generator", "independent", "--forms", "nonsense", "--prototype", prototype, "--torque-rig",
