@@ -385,24 +385,26 @@ RepeatMeanTest repeat_mean_test(const std::vector<PreparedTrial>& trials,
     dof = std::min(dof, trials[t].noise_dof);
   }
   if (!(noise2 > 0.0) || rows == 0) return out;
-  std::map<int, std::pair<double, int>> groups;
+  // The mean on the first repetition's points, weighed by the group test as a trial whose n x group-mean variance is
+  // the members' over K.
+  std::vector<double> mean(first.points.size(), 0.0);
+  std::vector<std::size_t> rows_tested;
   double ss = 0.0;
   for (std::size_t c = 0; c < channels; ++c) {
     for (std::size_t i = 0; i < rows; ++i) {
-      double mean = 0.0;
-      for (std::size_t t : set) mean += residuals[t][c * rows_of(trials[t]) + i] / k;
-      if (!std::isfinite(mean)) return out;
-      ss += mean * mean;
-      auto& g = groups[first.points[c * rows_of(first) + i].group];
-      g.first += mean;
-      ++g.second;
+      double& m = mean[c * rows_of(first) + i];
+      for (std::size_t t : set) m += residuals[t][c * rows_of(trials[t]) + i] / k;
+      if (!std::isfinite(m)) return out;
+      ss += m * m;
+      rows_tested.push_back(c * rows_of(first) + i);
     }
   }
-  double weighted = 0.0;  // sum n_g r_g^2
-  for (const auto& [id, g] : groups) weighted += g.first * g.first / g.second;
-  const double blocks = static_cast<double>(groups.size());
-  out.p_value = f_test_p_value(weighted / (blocks * block2 / k), blocks, dof);
-  out.excess = std::sqrt(std::max(0.0, ss / static_cast<double>(channels * rows) / noise2 - 1.0 / k));
+  PreparedTrial of_mean = first;
+  of_mean.noise = std::sqrt(noise2 / k);
+  of_mean.group_inflation = block2 / noise2;
+  of_mean.noise_dof = dof;
+  out.p_value = group_test(of_mean, mean, rows_tested).p_value;
+  out.excess = std::sqrt(std::max(0.0, ss / static_cast<double>(rows_tested.size()) / noise2 - 1.0 / k));
   return out;
 }
 
