@@ -31,6 +31,21 @@ diagnosis::EffectBase effect_base_named(const std::string& name) {
   throw UsageError(fmt::format("--effect-base: '{}' is none of better, as-placed, within-tolerances", name));
 }
 
+// --routing-by, for diagnose and diagnose-bench (DiagnosisOptions::routing_by): its value, or a usage error.
+diagnosis::RoutingBy routing_by_named(const std::string& name) {
+  if (name == "best") return diagnosis::RoutingBy::kBestModel;
+  if (name == "nominal") return diagnosis::RoutingBy::kNominalWithinTolerances;
+  throw UsageError(fmt::format("--routing-by: '{}' is neither best nor nominal", name));
+}
+
+void add_routing_by_option(CLI::App& command, std::string& by) {
+  command.add_option("--routing-by", by,
+                     "Where the data leave the routing open, the held-out error that decides: nominal (each routing's "
+                     "nominal within its tolerances, fitted on the training part; the default, the effects then "
+                     "fitted with the one kept) or best (each routing diagnosed whole, the lower of its corrected "
+                     "model's and nominal-within-tolerances'; until 2026-12) (docs/diagnosis.md)");
+}
+
 void add_effect_base_option(CLI::App& command, std::string& base) {
   command.add_option("--effect-base", base,
                      "What each effect is fitted from: better (from both below, the fit that predicts the held-out "
@@ -53,6 +68,7 @@ struct DiagnoseOptions {
   std::string effect_base = "better";
   bool pressures_from_commands = false;
   std::string routing = "auto";
+  std::string routing_by = "nominal";
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -82,6 +98,7 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
     options.routing = sim::parse_routing(o.routing);
     if (!options.routing) throw UsageError(fmt::format("--routing: '{}' is not auto, spatial or planar", o.routing));
   }
+  options.routing_by = routing_by_named(o.routing_by);
   const sim::DeviceDescription nominal = sim::load_device(o.model);
   const auto start = std::chrono::steady_clock::now();
   diagnosis::RealData data = diagnosis::load_real_data(o.real);
@@ -98,7 +115,9 @@ void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err
   const fs::path dir = o.out.empty() ? fs::path(o.real) / "diagnosis" : fs::path(o.out);
   const auto report = diagnosis::write_diagnosis_report(d, dir, {.plots = !o.no_plots, .wall_s = wall});
   out << fmt::format("verdict: {} ({})\n", d.verdict, d.reason);
-  const char* why = !d.routing_heldout_error.empty()    ? " (diagnosed both ways: the better held-out fit)"
+  const char* why = !d.routing_heldout_error.empty() ? " (diagnosed both ways: the better held-out fit)"
+                    : !d.routing_heldout_error_nominal.empty()
+                        ? " (its nominal within the tolerances predicts the held-out part better)"
                     : !d.routing_training_error.empty() ? " (the clearly lower training error as placed)"
                                                         : "";
   out << fmt::format("muscles routed {}{}\n", sim::to_string(d.routing), why);
@@ -269,6 +288,7 @@ struct DiagnoseBenchmarkOptions {
   std::string keep;
   double variation = 1.0;
   std::string effect_base = "better";
+  std::string routing_by = "nominal";  // independent only
   bool json = false;
 };
 
@@ -359,7 +379,7 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
     throw UsageError(fmt::format("--generator: '{}' is neither catalogue nor independent", o.generator));
   for (const char* only :
        {"--shard", "--out", "--merge", "--calibrate", "--redecide", "--forms", "--no-pairs", "--min-level",
-        "--torque-rig", "--prototype", "--rank-beyond-tolerances", "--repeat-mean-test"}) {
+        "--torque-rig", "--prototype", "--rank-beyond-tolerances", "--repeat-mean-test", "--routing-by"}) {
     if (!independent && command.count(only) > 0)
       throw UsageError(fmt::format("{} needs --generator independent", only));
   }
@@ -375,6 +395,7 @@ void run_diagnose_benchmark(DiagnoseBenchmarkOptions o, const CLI::App& command,
   a.first_seed = o.first_seed;
   a.jobs = o.jobs;
   a.effect_base = effect_base_named(o.effect_base);
+  a.routing_by = routing_by_named(o.routing_by);
   if (command.count("--trajectory-s") > 0) a.trajectory_s = o.trajectory_s;
   a.keep = o.keep;
   a.json = o.json;
@@ -462,6 +483,7 @@ void add_diagnose_bench_command(CLI::App& app, std::ostream& out, std::ostream& 
                   "independent: diagnose as diagnose --rank-beyond-tolerances does (experimental)");
   bench->add_flag("--repeat-mean-test", b->independent.repeat_mean_test,
                   "independent: diagnose as diagnose --repeat-mean-test does (experimental)");
+  add_routing_by_option(*bench, b->routing_by);
   bench->add_option("--shard", b->independent.shard, "independent: run shard K/N of the cases (default 1/1)");
   bench->add_option("--out", b->independent.out, "independent: also write the summary with its runs to this file");
   bench->add_option("--merge", b->independent.merge, "independent: merge these --out files instead of running");
@@ -510,6 +532,7 @@ void add_diagnose_commands(CLI::App& app, std::ostream& out, std::ostream& err) 
   diagnose->add_option("--routing", d->routing,
                        "How the model routes the muscles: auto (whichever of spatial and planar replays the training "
                        "part better; the default), spatial or planar (docs/diagnosis.md)");
+  add_routing_by_option(*diagnose, d->routing_by);
   diagnose->add_flag("--no-plots", d->no_plots, "Without plots (no python3-matplotlib needed)");
   diagnose->callback([d, &out, &err] { run_diagnose(*d, out, err); });
 

@@ -81,6 +81,7 @@ db::IndependentBenchOptions bench_options(const IndependentBenchArguments& a) {
   o.diagnosis.effect_base = a.effect_base;
   o.diagnosis.rank_beyond_tolerances = a.rank_beyond_tolerances;
   o.diagnosis.repeat_mean_test = a.repeat_mean_test;
+  o.diagnosis.routing_by = a.routing_by;
   try {
     std::tie(o.shard_index, o.shard_count) = experiments::parse_shard(a.shard);
   } catch (const std::invalid_argument& e) {

@@ -46,16 +46,27 @@ enum class EffectBase {
   kBetterOfBoth,
 };
 
+// How the two routings are compared where the nominal as placed leaves the choice open, on the held-out part of the
+// trials the routing changes. kNominalWithinTolerances (the default): each one's nominal within its tolerances (as
+// placed where no trial has a gap), fitted on the training part alone, so the held-out part chose nothing either
+// compares and both have the same parameters; the effects are then fitted with the routing kept only.
+// kBestModel (the rule until 2026-12): each routing diagnosed whole, the lower of its corrected model's and its
+// nominal-within-tolerances' errors; the held-out part had also chosen each run's effects, favouring the run that
+// gathered more of them, at twice the effects' searches.
+enum class RoutingBy { kBestModel, kNominalWithinTolerances };
+
 struct DiagnosisOptions {
   std::vector<EffectId> effects;  // empty: the whole catalogue
   // How the model routes the muscles (sim::Routing), on the nominal and every rig alike: this one, or (nullopt) the
   // one the data choose (diagnosis.cc, routings_to_try: the nominal as placed replays the training part clearly
-  // better with it, or, where neither is clearly better, its diagnosis's corrected model fits better). A device is not
+  // better with it, or, where neither is clearly better, routing_by decides). A device is not
   // a MuJoCo model: whether a muscle of one axis acts on the other, and how much, is a model-class question the
   // placement file cannot answer (the independent device's muscles act on their own axes alone, as the paper's torque
   // model has them; its ellipse trials differ from the spatial replay by 3-4 deg, from the planar one by 0.05-0.15
   // deg).
   std::optional<sim::Routing> routing;
+  // Where both routings are diagnosed, which of their models' held-out errors decides (RoutingBy).
+  RoutingBy routing_by = RoutingBy::kNominalWithinTolerances;
   // Effects fitted in parallel; above 1, the effects' searches from the nominal as placed beside the tolerance fit,
   // each on this many threads.
   int jobs = 2;
@@ -234,9 +245,12 @@ struct Diagnosis {
   // file's first.
   sim::Routing routing = sim::Routing::kSpatial;
   std::vector<std::pair<sim::Routing, double>> routing_training_error;
-  // Where both routings were diagnosed (their nominals' errors within a factor 2): each one's lowest held-out error
-  // of its corrected model and its nominal within the tolerances, weighed alike on the trials the routing changes
-  // (range of motion, trajectory angles); the lower is kept.
+  // Where both routings were tried (their nominals' errors within a factor 2): each one's nominal within its
+  // tolerances (as placed where none were fitted), its held-out error weighed alike on the trials the routing changes
+  // (range of motion, trajectory angles); the lower is kept (RoutingBy::kNominalWithinTolerances).
+  std::vector<std::pair<sim::Routing, double>> routing_heldout_error_nominal;
+  // With RoutingBy::kBestModel, each diagnosis's lower held-out error of its corrected model and its nominal within
+  // the tolerances, the same way; the lower is kept.
   std::vector<std::pair<sim::Routing, double>> routing_heldout_error;
   std::vector<EffectFit> effects;                         // each effect alone: the leader, then best first
   std::vector<EffectFit> combination;                     // the greedy combination, in the order the effects joined

@@ -103,6 +103,19 @@ nlohmann::json array_of(const std::vector<T>& values, F&& to_entry) {
   return out;
 }
 
+// The routing used, and where it was chosen each routing's errors (Diagnosis::routing_training_error and after).
+nlohmann::json routing_json(const Diagnosis& d) {
+  nlohmann::json j = {{"used", sim::to_string(d.routing)}};
+  const std::pair<const char*, const std::vector<std::pair<sim::Routing, double>>*> errors[] = {
+      {"training_error_as_placed", &d.routing_training_error},
+      {"heldout_error_nominal_within_tolerances", &d.routing_heldout_error_nominal},
+      {"heldout_error_best", &d.routing_heldout_error}};
+  for (const auto& [name, by_routing] : errors) {
+    for (const auto& [routing, error] : *by_routing) j[name][sim::to_string(routing)] = error;
+  }
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
@@ -144,11 +157,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["leading_effect"] = d.leading_effect;
   j["explained_fraction"] = d.explained_fraction;
   j["also_effects"] = d.also_effects;
-  j["routing"] = {{"used", sim::to_string(d.routing)}};
-  for (const auto& [routing, error] : d.routing_training_error)
-    j["routing"]["training_error_as_placed"][sim::to_string(routing)] = error;
-  for (const auto& [routing, error] : d.routing_heldout_error)
-    j["routing"]["heldout_error_best"][sim::to_string(routing)] = error;
+  j["routing"] = routing_json(d);
   if (!d.beyond_tolerance.empty()) {
     j["beyond_tolerance"] = nlohmann::json::array();
     for (const auto& b : d.beyond_tolerance) j["beyond_tolerance"].push_back(beyond_tolerance_json(b, true));
