@@ -40,10 +40,10 @@ diagnosis::RoutingBy routing_by_named(const std::string& name) {
 
 void add_routing_by_option(CLI::App& command, std::string& by) {
   command.add_option("--routing-by", by,
-                     "Where the data leave the routing open, the held-out error that decides: nominal (each routing's "
-                     "nominal within its tolerances, fitted on the training part; the default, the effects then "
-                     "fitted with the one kept) or best (each routing diagnosed whole, the lower of its corrected "
-                     "model's and nominal-within-tolerances'; until 2026-12) (docs/diagnosis.md)");
+                     "Where the data leave the routing open, the held-out error that decides: best (each routing "
+                     "diagnosed whole, the lower of its corrected model's and nominal-within-tolerances'; the "
+                     "default) or nominal (each routing's nominal within its tolerances, fitted on the training part, "
+                     "the effects then fitted with the one kept; experimental) (docs/diagnosis.md)");
 }
 
 void add_effect_base_option(CLI::App& command, std::string& base) {
@@ -68,7 +68,7 @@ struct DiagnoseOptions {
   std::string effect_base = "better";
   bool pressures_from_commands = false;
   std::string routing = "auto";
-  std::string routing_by = "nominal";
+  std::string routing_by = "best";
 };
 
 void run_diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& err) {
@@ -288,7 +288,7 @@ struct DiagnoseBenchmarkOptions {
   std::string keep;
   double variation = 1.0;
   std::string effect_base = "better";
-  std::string routing_by = "nominal";  // independent only
+  std::string routing_by = "best";  // independent only
   bool json = false;
 };
 

@@ -27,10 +27,10 @@ struct IndependentBenchArguments {
   bool redecide = false;           // merged runs decided again at this build's decision settings
   std::string torque_rig = "experiments/independent_device/torque_rig.json";
   std::string prototype = "experiments/independent_device/prototype.json";
-  diagnosis::EffectBase effect_base = diagnosis::EffectBase::kBetterOfBoth;          // DiagnosisOptions::effect_base
-  diagnosis::RoutingBy routing_by = diagnosis::RoutingBy::kNominalWithinTolerances;  // DiagnosisOptions::routing_by
-  bool repeat_mean_test = false;        // DiagnosisOptions::repeat_mean_test
-  bool rank_beyond_tolerances = false;  // DiagnosisOptions::rank_beyond_tolerances
+  diagnosis::EffectBase effect_base = diagnosis::EffectBase::kBetterOfBoth;  // DiagnosisOptions::effect_base
+  diagnosis::RoutingBy routing_by = diagnosis::RoutingBy::kBestModel;        // DiagnosisOptions::routing_by
+  bool repeat_mean_test = false;                                             // DiagnosisOptions::repeat_mean_test
+  bool rank_beyond_tolerances = false;                                       // DiagnosisOptions::rank_beyond_tolerances
   bool json = false;
 };
 

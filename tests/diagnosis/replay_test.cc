@@ -6,6 +6,7 @@
 
 #include "diagnosis/replay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -138,6 +139,38 @@ TEST_F(ReplayDeadTime, ZeroedAnglesTakeTheirOriginFromTheTrainingRowsAlone) {
       mean_training_residual_fe += (angles.points[i].measured - before[i]) / training_fe;
   }
   EXPECT_NEAR(mean_training_residual_fe, 0.0, 1e-9);
+}
+
+// A repeated task's repetitions alternate whole between the training and the held-out part (split_by_repetition), so
+// that both parts reach every state the task does; a trial of no repeated task keeps its time split (the first half
+// trains). A repetition held out whole takes its zeroed angles' origin from its own rows, and has nothing to replay
+// for the training part.
+TEST_F(ReplayDeadTime, RepetitionsOfATaskAlternateWholeBetweenTrainingAndHeldOut) {
+  RealData data = data_;
+  data.trials[0].conventions.angles_zeroed_at_start = true;
+  Trial again = data.trials[0];
+  again.name = again.file = "steps again";
+  data.trials.push_back(again);
+  const ModelVariant nominal{.device = sim::paper_device()};
+  const std::vector<PreparedTrial> prepared = prepare(data, engine_, nominal);
+  ASSERT_EQ(prepared.size(), 4u);  // each repetition's angles and pressures
+  for (std::size_t t = 0; t < 4; ++t) {
+    const bool held_out = prepared[t].trial->name == "steps again";
+    for (const Point& point : prepared[t].points) ASSERT_EQ(point.heldout, held_out) << prepared[t].name;
+  }
+  PreparedTrial second = prepared.at(2);
+  ASSERT_FALSE(second.pressures);
+  for (double v : engine_.predict(second, nominal, true)) EXPECT_TRUE(std::isnan(v));
+  const std::vector<double> before = engine_.predict(second, nominal, false);
+  for (Point& point : second.points) point.measured += 1.5;
+  const std::vector<double> after = engine_.predict(second, nominal, false);
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_NEAR(after[i] - before[i], 1.5, 1e-9) << "point " << i;
+
+  const std::vector<PreparedTrial> alone = prepare(data_, engine_, nominal);
+  const auto held_out = std::count_if(alone.at(0).points.begin(), alone.at(0).points.end(),
+                                      [](const Point& point) { return point.heldout; });
+  EXPECT_GT(held_out, 0);
+  EXPECT_LT(held_out, static_cast<long>(alone.at(0).points.size()));
 }
 
 TEST_F(ReplayDeadTime, ReplaysAreCountedAndCachedOnesAreNot) {
