@@ -1290,12 +1290,13 @@ Routed prepare_routed(RealData data, const sim::DeviceDescription& device_as_fil
   return r;
 }
 
-Diagnosis diagnose_with_routing(RealData data, const sim::DeviceDescription& device_as_filed, ReplayEngine& engine,
-                                const DiagnosisOptions& options, std::optional<sim::Routing> routing,
-                                std::vector<sim::Routing>* to_try) {
+// The whole diagnosis with `routing` (or the first of those to try), with its nominal as placed and routed.
+Routed diagnose_with_routing(RealData data, const sim::DeviceDescription& device_as_filed, ReplayEngine& engine,
+                             const DiagnosisOptions& options, std::optional<sim::Routing> routing,
+                             std::vector<sim::Routing>* to_try) {
   Routed r = prepare_routed(std::move(data), device_as_filed, engine, options, routing, to_try);
   attribute_gap(r.d, engine, r.nominal, replay_nominal(r.d, engine, r.nominal, options, true), options);
-  return std::move(r.d);
+  return r;
 }
 
 // The lower held-out error, on `problem`'s trials and weights, of the models `d` ended with: its corrected model and
@@ -1353,10 +1354,9 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& device_as_filed,
     return diagnose_routed_by_nominal(std::move(data), device_as_filed, engine, options);
   std::vector<sim::Routing> to_try;
   RealData second_data = data;  // a second routing, where the first leaves the choice open, diagnoses it afresh
-  Diagnosis first = diagnose_with_routing(std::move(data), device_as_filed, engine, options, std::nullopt, &to_try);
-  if (to_try.size() < 2) return first;
-  Diagnosis second =
-      diagnose_with_routing(std::move(second_data), device_as_filed, engine, options, to_try[1], nullptr);
+  Routed first = diagnose_with_routing(std::move(data), device_as_filed, engine, options, std::nullopt, &to_try);
+  if (to_try.size() < 2) return std::move(first.d);
+  Routed second = diagnose_with_routing(std::move(second_data), device_as_filed, engine, options, to_try[1], nullptr);
   // RoutingBy::kBestModel. Each routing's diagnosis fitted its own tolerances and effects; the one whose models predict
   // the held-out part better is kept, both weighed on the first's trials and noise, over the trials the routing changes
   // only (over every trial, the torque sweeps and tensile tests, which both replay alike, let whichever search happened
@@ -1366,20 +1366,16 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& device_as_filed,
   // 0.840 spatial with a mount stretch on top, 0.848 planar; held out 1.78 against 0.31, and the spatial one had read
   // `unexplained`). Not wholly independent of the fits: the held-out part also decided which effects each run kept.
   // Both within the noise (0 and 0) keep the first, the routing that fitted better as placed.
-  std::vector<PreparedTrial> compared = trials_the_routing_changes(first.prepared);
+  std::vector<PreparedTrial> compared = trials_the_routing_changes(first.d.prepared);
   GapProblem problem(compared, engine);
-  const double best_first = best_heldout_error(problem, first), best_second = best_heldout_error(problem, second);
-  const auto as_placed = [&](const Diagnosis& d) {
-    ModelVariant nominal{.device = device_as_filed};
-    nominal.route(d.routing);
-    return nominal;
-  };
-  const double nominal_first = nominal_heldout_error(problem, first, as_placed(first));
-  const double nominal_second = nominal_heldout_error(problem, second, as_placed(second));
-  Diagnosis& kept = best_second < best_first ? second : first;
-  kept.routing_training_error = first.routing_training_error;
-  kept.routing_heldout_error = {{first.routing, best_first}, {second.routing, best_second}};
-  kept.routing_heldout_error_nominal = {{first.routing, nominal_first}, {second.routing, nominal_second}};
+  const double best_first = best_heldout_error(problem, first.d), best_second = best_heldout_error(problem, second.d);
+  // Each one's nominal with its rigs (as placed, where no tolerance was fitted): reported beside.
+  const double nominal_first = nominal_heldout_error(problem, first.d, first.nominal);
+  const double nominal_second = nominal_heldout_error(problem, second.d, second.nominal);
+  Diagnosis& kept = best_second < best_first ? second.d : first.d;
+  kept.routing_training_error = first.d.routing_training_error;
+  kept.routing_heldout_error = {{first.d.routing, best_first}, {second.d.routing, best_second}};
+  kept.routing_heldout_error_nominal = {{first.d.routing, nominal_first}, {second.d.routing, nominal_second}};
   return std::move(kept);
 }
 
