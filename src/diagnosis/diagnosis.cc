@@ -1299,22 +1299,21 @@ Routed diagnose_with_routing(RealData data, const sim::DeviceDescription& device
   return r;
 }
 
-// The lower held-out error, on `problem`'s trials and weights, of the models `d` ended with: its corrected model and
-// its nominal within the tolerances (a `none` leaves the second as its account of the data, while its corrected model
-// may be the nominal as placed). Infinite without either.
-double best_heldout_error(const GapProblem& problem, const Diagnosis& d) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto* model : {&d.corrected, &d.tolerance.variant}) {
-    if (*model) best = std::min(best, problem.heldout_error(problem.heldout_sums(problem.evaluate(**model, false))));
-  }
-  return best;
-}
-
 // The held-out error, on `problem`'s trials and weights, of `d`'s nominal within its tolerances, or `as_placed` (routed
 // as `d`) where none were fitted: models fitted on the training part alone.
 double nominal_heldout_error(const GapProblem& problem, const Diagnosis& d, const ModelVariant& as_placed) {
   const ModelVariant& model = d.tolerance.variant ? *d.tolerance.variant : as_placed;
   return problem.heldout_error(problem.heldout_sums(problem.evaluate(model, false)));
+}
+
+// The lower held-out error, on `problem`'s trials and weights, of the models `d` ended with: its corrected model and
+// its nominal within the tolerances, whose error `nominal_error` is (nominal_heldout_error; a `none` leaves it as its
+// account of the data, while its corrected model may be the nominal as placed). Infinite without either.
+double best_heldout_error(const GapProblem& problem, const Diagnosis& d, double nominal_error) {
+  double best = d.tolerance.variant ? nominal_error : std::numeric_limits<double>::infinity();
+  if (d.corrected)
+    best = std::min(best, problem.heldout_error(problem.heldout_sums(problem.evaluate(*d.corrected, false))));
+  return best;
 }
 
 // DiagnosisOptions::routing_by kNominalWithinTolerances: where the routing is open, each routing's first stage
@@ -1368,10 +1367,11 @@ Diagnosis diagnose(RealData data, const sim::DeviceDescription& device_as_filed,
   // Both within the noise (0 and 0) keep the first, the routing that fitted better as placed.
   std::vector<PreparedTrial> compared = trials_the_routing_changes(first.d.prepared);
   GapProblem problem(compared, engine);
-  const double best_first = best_heldout_error(problem, first.d), best_second = best_heldout_error(problem, second.d);
-  // Each one's nominal with its rigs (as placed, where no tolerance was fitted): reported beside.
+  // Each one's nominal with its rigs (as placed, where no tolerance was fitted): reported beside, and replayed once.
   const double nominal_first = nominal_heldout_error(problem, first.d, first.nominal);
   const double nominal_second = nominal_heldout_error(problem, second.d, second.nominal);
+  const double best_first = best_heldout_error(problem, first.d, nominal_first);
+  const double best_second = best_heldout_error(problem, second.d, nominal_second);
   Diagnosis& kept = best_second < best_first ? second.d : first.d;
   kept.routing_training_error = first.d.routing_training_error;
   kept.routing_heldout_error = {{first.d.routing, best_first}, {second.d.routing, best_second}};
