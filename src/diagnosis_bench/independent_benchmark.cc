@@ -426,11 +426,13 @@ std::vector<IndependentRun> run_independent_benchmark(const IndependentBenchOpti
 
 nlohmann::json summarize(const std::vector<IndependentRun>& unsorted) {
   std::vector<IndependentRun> runs = unsorted;
-  std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  // Keyed by seed and index: the runs of several reported seeds merge into one record (a calibration over them).
+  const auto key = [](const IndependentRun& r) { return std::pair{r.seed, r.index}; };
+  std::sort(runs.begin(), runs.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
   for (std::size_t i = 1; i < runs.size(); ++i) {
-    if (runs[i].index == runs[i - 1].index)
-      throw std::invalid_argument(
-          fmt::format("case {} ({}) appears twice: the same shard merged twice?", runs[i].index, runs[i].case_name));
+    if (key(runs[i]) == key(runs[i - 1]))
+      throw std::invalid_argument(fmt::format("case {} ({}, seed {}) appears twice: the same shard merged twice?",
+                                              runs[i].index, runs[i].case_name, runs[i].seed));
   }
   const auto count = [&](CaseCategory category, auto&& right) {
     int k = 0, n = 0;

@@ -218,6 +218,14 @@ TEST_F(CliDiagnose, IndependentBenchmarkRunsShardsMergesAndChoosesTheRoutingOnTh
                           (dir_ / "shard1.json").string()});
   EXPECT_EQ(twice.code, 2);
   EXPECT_THAT(twice.err, HasSubstr("appears twice"));
+  // Runs of another seed (the same index) merge beside it: a calibration over several reported seeds.
+  auto other_seed = nlohmann::json::parse(std::ifstream(dir_ / "shard1.json"));
+  for (auto& r : other_seed["runs"]) r["seed"] = r["seed"].get<int>() + 1;
+  std::ofstream(dir_ / "other_seed.json") << other_seed.dump();
+  const auto two_seeds = run({"diagnose-bench", "--generator", "independent", "--json", "--merge",
+                              (dir_ / "shard1.json").string(), (dir_ / "other_seed.json").string()});
+  ASSERT_EQ(two_seeds.code, 0) << two_seeds.err;
+  EXPECT_EQ(nlohmann::json::parse(two_seeds.out)["counts"]["none"]["cases"], 2);
 }
 
 }  // namespace

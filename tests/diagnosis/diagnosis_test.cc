@@ -168,7 +168,10 @@ TEST(DiagnosisVerdict, AGapNoEffectExplainsIsUnexplainedOnlyWhereItEvidencesAnEf
   EXPECT_EQ(d.verdict, "none");
   EXPECT_THAT(d.reason, HasSubstr("the largest gap left within the tolerances, 1.30 noise units (tensile/trials)"));
   EXPECT_THAT(d.reason, HasSubstr("no catalogue effect reduces the held-out error meaningfully"));
-  d.trials.front().excess_within_tolerance = 2.4;
+  d.trials.front().excess_within_tolerance = 2.4;  // below the default 3 (unexplained while it was 1.5)
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "none") << d.reason;
+  d.trials.front().excess_within_tolerance = 3.4;
   redecide(d, DiagnosisOptions{});
   EXPECT_EQ(d.verdict, "unexplained") << d.reason;
   DiagnosisOptions lower;
@@ -327,8 +330,9 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   d.combination = {mounts};
   d.tolerance.at_bound = {"regulator_lag.time_constant_s"};
   EXPECT_EQ(verdict(), "none") << d.reason;
-  // A pinned regulator that leads: named only where its fit alone takes the time constant past the upper edge.
-  d.effects.back().shrink_fraction = 0.45;
+  // A pinned regulator that leads: named only where its fit alone takes the time constant past the upper edge (and
+  // closes explained_fraction, 0.5).
+  d.effects.back().shrink_fraction = 0.55;
   d.combination = {lag};
   EXPECT_EQ(verdict(), "none") << d.reason;  // 0.036 s: the other way
   d.effects.back().params.front().second = 0.09;
@@ -411,12 +415,17 @@ TEST(DiagnosisVerdict, ASecondEffectMustCloseWhatTheTolerancesFittedToItsTrialAl
   redecide(d, DiagnosisOptions{});
   EXPECT_EQ(d.verdict, "wrap_geometry") << d.reason;
   EXPECT_TRUE(d.also_effects.empty()) << d.reason;
-  // Where the trial keeps its gap with the tolerances fitted to it alone, the second is reported.
+  // Where the trial keeps its gap with the tolerances fitted to it alone, the second is reported (the second cuts it
+  // by 2.14 noise units: credited at contradiction_gap 1.5, the setting when these figures were read; not at 3).
   d.combination[0].heldout_excess_by_trial = {3.31, 5.03};
   d.combination[1].heldout_excess_by_trial = {1.17, 1.33};
   d.trials[0].heldout_excess_leader_base = 3.31;
   d.trials[0].heldout_excess_within_alone = 3.25;
   redecide(d, DiagnosisOptions{});
+  EXPECT_TRUE(d.also_effects.empty()) << d.reason;
+  DiagnosisOptions read_at;
+  read_at.contradiction_gap = 1.5;
+  redecide(d, read_at);
   EXPECT_EQ(d.also_effects, std::vector<std::string>{"passive_wrist"});
   EXPECT_THAT(d.reason, HasSubstr("(3.31 before it, 3.25 with the tolerances fitted to it alone)"));
 }
@@ -553,7 +562,10 @@ TEST_F(DiagnosisTest, OneMusclesAnchorWithinItsToleranceIsNone) {
   write_synthetic_data(real, {.trajectory_s = 12.0}, dir_ / "real");
   const Diagnosis exact =
       diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100, .tolerances = Tolerances::none()});
-  ASSERT_NE(exact.verdict, "none") << "the shifted anchor must show as placed: " << exact.reason;
+  // It shows as placed: a trial keeps a gap (2.4 noise units: `unexplained` while contradiction_gap was 1.5, `none`
+  // at 3, below the evidence of an effect outside the catalogue, which a 2 mm shift is not).
+  ASSERT_TRUE(std::ranges::any_of(exact.trials, [](const TrialGap& t) { return t.gap; }))
+      << "the shifted anchor must show as placed: " << exact.reason;
   const Diagnosis within = diagnose(load_real_data(dir_ / "real"), device, engine_, {.bootstrap = 100});
   EXPECT_EQ(within.verdict, "none") << within.reason;
   std::map<std::string, double> fitted(within.tolerance.params.begin(), within.tolerance.params.end());

@@ -221,11 +221,22 @@ TEST(IndependentBenchmark, DefaultsAreTheCalibratedSettings) {
   EXPECT_DOUBLE_EQ(defaults.explained_fraction, record.at("chosen").at("explained_fraction").get<double>());
   EXPECT_DOUBLE_EQ(defaults.pair_share, record.at("chosen").at("pair_share").get<double>());
   EXPECT_DOUBLE_EQ(defaults.contradiction_gap, record.at("chosen").at("contradiction_gap").get<double>());
-  // The record is the calibration's own output: the runs it was chosen from give it again.
-  const std::string runs_file = std::string(SOFTWRIST_SOURCE_DIR) + "/experiments/diagnosis_calibration/seed1001.json";
-  const std::vector<IndependentRun> runs = runs_from_json(nlohmann::json::parse(std::ifstream(runs_file)), runs_file);
-  const DecisionSettings before{.explained_fraction = 0.5, .pair_share = 0.3, .contradiction_gap = 2.0};
-  EXPECT_EQ(calibrate_decisions(runs, before)["chosen"], record.at("chosen"));
+  // The record is the calibration's own output: the runs it was chosen from (seeds 34-46's reported runs) give it
+  // again, and their seeds are the record's.
+  const std::string dir = std::string(SOFTWRIST_SOURCE_DIR) + "/experiments/diagnosis_calibration/";
+  std::vector<IndependentRun> runs;
+  for (const char* name :
+       {"34_df5defb", "35_df5defb", "36_192c9ef", "37_192c9ef", "38_80a02a9", "39_228bf57", "40_228bf57", "41_969ce6d",
+        "42_668ab38", "43_c2ac60a", "44_61b276e", "45_30fbb79", "46_0c76bb8"}) {
+    const std::string file = dir + "reported_seed" + name + ".json";
+    for (IndependentRun& r : runs_from_json(nlohmann::json::parse(std::ifstream(file)), file))
+      runs.push_back(std::move(r));
+  }
+  const DecisionSettings before{.explained_fraction = 0.4, .pair_share = 0.2, .contradiction_gap = 1.5};
+  const nlohmann::json again = calibrate_decisions(runs, before);
+  EXPECT_EQ(again["chosen"], record.at("chosen"));
+  EXPECT_EQ(again["seeds"], record.at("seeds"));
+  EXPECT_EQ(again["cases"], 351);
 }
 
 }  // namespace
