@@ -401,6 +401,26 @@ TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
   }
 }
 
+// The model sizes mjData for its only constraints, the two joints' limits (model_builder.cc's <size>): pushed past
+// both limits at once, with every muscle at full pressure, both limits act and nothing is dropped or overflows.
+TEST(ModelFreeMotion, BothJointLimitsAtOnceFitTheConstraintSpace) {
+  Sim sim(paper_device());
+  for (const double sign : {-1.0, 1.0}) {
+    mj_resetData(sim.model.get(), sim.data.get());
+    for (int j = 0; j < 2; ++j) {
+      const double past = sign > 0 ? sim.model->jnt_range[2 * j + 1] + 0.05 : sim.model->jnt_range[2 * j] - 0.05;
+      sim.data->qpos[sim.model->jnt_qposadr[j]] = past;
+    }
+    for (int i = 0; i < 4; ++i) sim.data->ctrl[i] = 137.0;
+    mj_forward(sim.model.get(), sim.data.get());
+    EXPECT_EQ(sim.data->nefc, 2) << sign;
+    for (int step = 0; step < 500; ++step) mj_step(sim.model.get(), sim.data.get());
+    for (const int warning : {mjWARN_CNSTRFULL, mjWARN_CONTACTFULL, mjWARN_BADQACC})
+      EXPECT_EQ(sim.data->warning[warning].number, 0) << "warning " << warning << ", sign " << sign;
+    for (int i = 0; i < sim.model->nq; ++i) EXPECT_TRUE(std::isfinite(sim.data->qpos[i])) << sign;
+  }
+}
+
 // Threads stepping different mjData of the same model, and of a second model, give exactly the sequential result:
 // the plugin's instances are immutable and its per-step state lives in mjData.
 TEST(ModelThreads, ConcurrentSteppingMatchesSequential) {
