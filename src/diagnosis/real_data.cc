@@ -83,22 +83,38 @@ double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, in
   return kpa;
 }
 
+// [deg] a sweep's reading further than this from the mean of the angle held so far starts the next set angle: twice
+// the clusters' gap (kHeldAngleGapDeg), as a measured held angle scatters (1 deg on the catalogue's rig) and a reading
+// 2.5 to 4 deg off its neighbours is still the same set angle. Set angles a rig steps through are further apart (the
+// paper's 22.5 deg).
+constexpr double kSetAngleStepDeg = 2.0 * kHeldAngleGapDeg;
+
 // How the wrist came to each held angle, in the log's order per muscle and repetition: the direction of the last
-// change of set angle (clusters of held angles), kept while the angle is held (other pressures). Per repetition, so
-// that a file sorted by angle with the repetitions side by side still gives each repetition's own direction; a
-// repetition's first angle is 0 (not known). A muscle whose angles were all reached the same way keeps 0: one branch
-// of the loop alone is a force scale, which the fPAM's parameters already fit, not evidence of hysteresis.
+// change of set angle, kept while the angle is held (other pressures). A change is a reading beyond kSetAngleStepDeg
+// of the held angle's mean so far, not a new cluster of all the readings: one jittered reading that clustered apart
+// was read as a step out and back, a reversal that made a whole sweep "reached both ways", and a hysteresis fitted to
+// the tensile test then contradicted that sweep (3 of the catalogue benchmark's 5 hysteresis data sets). Per
+// repetition, so that a file sorted by angle with the repetitions side by side still gives each repetition's own
+// direction; a repetition's first angle is 0 (not known). A muscle whose angles were all reached the same way keeps
+// 0: one branch of the loop alone is a force scale, which the fPAM's parameters already fit, not evidence of
+// hysteresis.
 void set_sweep_motion(std::vector<SweepPoint>& sweep) {
   std::map<std::pair<int, int>, std::vector<std::size_t>> rows;  // per muscle and repetition, in the log's order
   for (std::size_t i = 0; i < sweep.size(); ++i) rows[{sweep[i].muscle, sweep[i].repetition}].push_back(i);
   for (const auto& [key, indices] : rows) {
-    std::vector<double> angles;
-    for (std::size_t i : indices) angles.push_back(units::rad_to_deg(sweep[i].angle));
-    const std::vector<int> set_angle = clusters(angles, kHeldAngleGapDeg);
     int motion = 0;
-    for (std::size_t k = 1; k < indices.size(); ++k) {
-      if (set_angle[k] != set_angle[k - 1]) motion = set_angle[k] > set_angle[k - 1] ? 1 : -1;
-      sweep[indices[k]].motion = motion;
+    double held_sum = 0.0;  // [deg] the readings of the angle held now
+    int held_count = 0;
+    for (std::size_t i : indices) {
+      const double angle = units::rad_to_deg(sweep[i].angle);
+      if (held_count > 0 && std::abs(angle - held_sum / held_count) > kSetAngleStepDeg) {
+        motion = angle > held_sum / held_count ? 1 : -1;
+        held_sum = 0.0;
+        held_count = 0;
+      }
+      held_sum += angle;
+      ++held_count;
+      sweep[i].motion = motion;
     }
   }
   std::map<int, std::pair<bool, bool>> ways;  // per muscle: reached moving up, moving down

@@ -1030,6 +1030,46 @@ TEST_F(DiagnosisTest, SweepReachedFromBothSidesShowsHysteresis) {
   EXPECT_NEAR(param(fit_of(d, EffectId::kHysteresis), "fraction"), h, 0.01);
 }
 
+// A sweep's direction of approach comes from the log's order (real_data.cc, set_sweep_motion), and measured held angles
+// scatter: one reading 3.5 deg off its set angle's others is no step out and back, so a sweep whose angles all went up
+// stays "one way" (motion 0, no evidence of hysteresis), as before a jittered reading of the catalogue's rig
+// (clustered apart at 2.5 deg) made it "both ways". The same sweep with its second repetition run back down is read
+// both ways, each held angle from the side it was reached from, the jittered reading's too.
+TEST_F(DiagnosisTest, AJitteredHeldAngleIsNoReversalOfTheSweep) {
+  const std::vector<double> set_angles = {-45.0, -22.5, 0.0, 22.5, 45.0};
+  const auto motions = [&](bool second_back, const std::string& name) {
+    std::string csv = "angle_deg,pressure_kpa,torque_nm,repetition\n";
+    for (int rep : {0, 1}) {
+      std::vector<double> order = set_angles;
+      if (rep == 1 && second_back) std::reverse(order.begin(), order.end());
+      for (double angle : order) {
+        for (int k = 0; k < 4; ++k) {
+          const double jitter = rep == 0 && angle == 0.0 && k == 2 ? 3.5 : (k % 2 == 0 ? -0.3 : 0.3);
+          csv += fmt::format("{},{},{},{}\n", angle + jitter, 34.0 * k, 0.5 + 0.01 * angle, rep);
+        }
+      }
+    }
+    std::ofstream(dir_ / (name + ".csv")) << csv;
+    import_csv(dir_ / (name + ".csv"), dir_ / name / "sweep", {.kind = "torque-sweep"});
+    std::map<std::pair<int, double>, std::set<int>> by_held_angle;  // [repetition, set angle] -> motions read
+    for (const Trial& t : load_real_data(dir_ / name).trials) {
+      for (const SweepPoint& p : t.sweep)
+        by_held_angle[{p.repetition, 22.5 * std::round(units::rad_to_deg(p.angle) / 22.5)}].insert(p.motion);
+    }
+    return by_held_angle;
+  };
+  const auto one_way = motions(false, "up");
+  ASSERT_EQ(one_way.size(), 10u);
+  for (const auto& [held, read] : one_way) EXPECT_EQ(read, std::set<int>{0}) << held.first << " " << held.second;
+  const auto both_ways = motions(true, "up_and_back");
+  ASSERT_EQ(both_ways.size(), 10u);
+  for (const auto& [held, read] : both_ways) {
+    const auto [repetition, angle] = held;
+    const bool first = angle == (repetition == 0 ? set_angles.front() : set_angles.back());
+    EXPECT_EQ(read, std::set<int>{first ? 0 : (repetition == 0 ? 1 : -1)}) << repetition << " " << angle;
+  }
+}
+
 // The fabric's hysteresis as a state of the muscles' force (physics/fpam_hysteresis.h, issue 19): a device without
 // tensile tests or sweeps, only its range of motion and a trajectory, in which a fabric with h = 0.1 holds every
 // muscle on its shortening branch at its limit and lags the trajectory's force. The whole catalogue names hysteresis
