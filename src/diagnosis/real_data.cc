@@ -85,8 +85,8 @@ double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, in
 
 // [deg] a sweep's reading further than this from the mean of the angle held so far starts the next set angle: twice
 // the clusters' gap (kHeldAngleGapDeg), as a measured held angle scatters (1 deg on the catalogue's rig) and a reading
-// 2.5 to 4 deg off its neighbours is still the same set angle. Set angles a rig steps through are further apart (the
-// paper's 22.5 deg).
+// up to 5 deg from its held angle's mean is still that set angle. Set angles a rig steps through are further apart
+// (the paper's 22.5 deg); set angles under 5 deg apart read as one, and a sweep reversing in such steps as one way.
 constexpr double kSetAngleStepDeg = 2.0 * kHeldAngleGapDeg;
 
 // How the wrist came to each held angle, in the log's order per muscle and repetition: the direction of the last

@@ -178,10 +178,12 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
   <compiler angle="radian" inertiafromgeom="false"/>
   <!-- No contacts: every geom is drawing only (contype and conaffinity 0), and without the flag MuJoCo still ran its
        collision broadphase every step (12 % of a diagnosis's time, measured with perf). A geom added to collide
-       needs this flag removed. -->
-  <!-- The only constraints are the two joints' limits: room for 16 rows instead of MuJoCo's default 500 (and 100
-       contacts) shrinks mjData's stack from 10 MB to 25 kB, which a diagnosis allocated and cleared at each of its
-       thousands of resets (12 % of a diagnosis test's time in memset, perf; the test ran a third faster). -->
+       needs this flag removed and room in <size> below. -->
+  <!-- The only constraint rows are the two joints' limits (and friction loss on the four tendons, where the
+       diagnosis's synthetic device adds it: 6 at most): room for 16 instead of MuJoCo's default 500 rows and 100
+       contacts shrinks mjData's stack from 10 MB to 25 kB, which a diagnosis allocated and cleared at each of its
+       thousands of resets (12 % of a diagnosis test's time in memset, perf; the test ran a third faster). Rows
+       beyond njmax would be dropped with only a warning (mjWARN_CNSTRFULL). -->
   <size njmax="16" nconmax="4"/>
   <option timestep="{timestep:.10g}" gravity="{gravity}">
     <flag contact="disable"/>

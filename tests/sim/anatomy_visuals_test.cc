@@ -69,7 +69,8 @@ TEST(AnatomyVisuals, ContactsOffChangeNoDynamicsAndTheBareModelHasNoAssets) {
   for (int g = 0; g < with_collision->ngeom; ++g) {
     const char* name = mj_id2name(with_collision.get(), mjOBJ_GEOM, g);
     EXPECT_EQ(with_collision->geom_contype[g] | with_collision->geom_conaffinity[g], 0)
-        << (name ? name : "an unnamed geom") << " could collide: remove <flag contact=\"disable\"/> (model_builder.cc)";
+        << (name ? name : "an unnamed geom")
+        << " could collide: remove <flag contact=\"disable\"/> and raise <size njmax nconmax> (model_builder.cc)";
   }
   const Model bare = build(device, false);
   EXPECT_EQ(bare->nmesh, 0);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -401,23 +402,33 @@ TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
   }
 }
 
-// The model sizes mjData for its only constraints, the two joints' limits (model_builder.cc's <size>): pushed past
-// both limits at once, with every muscle at full pressure, both limits act and nothing is dropped or overflows.
-TEST(ModelFreeMotion, BothJointLimitsAtOnceFitTheConstraintSpace) {
-  Sim sim(paper_device());
-  for (const double sign : {-1.0, 1.0}) {
-    mj_resetData(sim.model.get(), sim.data.get());
-    for (int j = 0; j < 2; ++j) {
-      const double past = sign > 0 ? sim.model->jnt_range[2 * j + 1] + 0.05 : sim.model->jnt_range[2 * j] - 0.05;
-      sim.data->qpos[sim.model->jnt_qposadr[j]] = past;
+// The model sizes mjData for its only constraint rows (model_builder.cc's <size>): the two joints' limits, and friction
+// loss on the four tendons where the diagnosis's synthetic device adds it (wrap friction, synthetic_device.cc). Pushed
+// past both limits at once, every muscle at full pressure, every row acts and nothing is dropped or overflows.
+TEST(ModelFreeMotion, BothJointLimitsAndTendonFrictionFitTheConstraintSpace) {
+  for (const bool tendon_friction : {false, true}) {
+    std::string xml = build_model_xml(paper_device());
+    if (tendon_friction) {
+      const std::string tendon = "<spatial name=";
+      for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size()))
+        xml.insert(at + tendon.find(' ') + 1, "frictionloss=\"3\" ");
     }
-    for (int i = 0; i < 4; ++i) sim.data->ctrl[i] = 137.0;
-    mj_forward(sim.model.get(), sim.data.get());
-    EXPECT_EQ(sim.data->nefc, 2) << sign;
-    for (int step = 0; step < 500; ++step) mj_step(sim.model.get(), sim.data.get());
-    for (const int warning : {mjWARN_CNSTRFULL, mjWARN_CONTACTFULL, mjWARN_BADQACC})
-      EXPECT_EQ(sim.data->warning[warning].number, 0) << "warning " << warning << ", sign " << sign;
-    for (int i = 0; i < sim.model->nq; ++i) EXPECT_TRUE(std::isfinite(sim.data->qpos[i])) << sign;
+    const Model model = Model::FromXml(xml, plugins());
+    const Data data = make_data(model);
+    for (const double sign : {-1.0, 1.0}) {
+      mj_resetData(model.get(), data.get());
+      for (int j = 0; j < model->njnt; ++j) {
+        const double past = sign > 0 ? model->jnt_range[2 * j + 1] + 0.05 : model->jnt_range[2 * j] - 0.05;
+        data->qpos[model->jnt_qposadr[j]] = past;
+      }
+      for (int i = 0; i < 4; ++i) data->ctrl[i] = 137.0;
+      mj_forward(model.get(), data.get());
+      EXPECT_EQ(data->nefc, tendon_friction ? 6 : 2) << sign;
+      for (int step = 0; step < 500; ++step) mj_step(model.get(), data.get());
+      for (const int warning : {mjWARN_CNSTRFULL, mjWARN_CONTACTFULL, mjWARN_BADQACC})
+        EXPECT_EQ(data->warning[warning].number, 0) << "warning " << warning << ", sign " << sign;
+      for (int i = 0; i < model->nq; ++i) EXPECT_TRUE(std::isfinite(data->qpos[i])) << sign;
+    }
   }
 }
 
