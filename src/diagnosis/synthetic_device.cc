@@ -5,8 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include <fmt/format.h>
+#include <utility>
 
 #include "experiments/trial_log.h"
 #include "io/csv.h"
@@ -43,12 +42,7 @@ sim::Model load(const SyntheticDevice& real, const sim::PluginSet& plugins, doub
   sim::DeviceDescription device = real.device;
   device.hysteresis.fraction = real.hysteresis;
   std::string xml = sim::build_model_xml(device, options);
-  if (real.wrap_friction_n > 0.0) {  // friction along each muscle's tendon path: it slides over the wrist
-    const std::string tendon = "<spatial name=";
-    for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size())) {
-      xml.insert(at + tendon.find(" ") + 1, fmt::format("frictionloss=\"{:.10g}\" ", real.wrap_friction_n));
-    }
-  }
+  if (real.wrap_friction_n > 0.0) xml = sim::with_tendon_friction(std::move(xml), real.wrap_friction_n);
   return sim::Model::FromXml(xml, plugins, "synthetic device");
 }
 

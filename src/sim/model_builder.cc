@@ -224,4 +224,12 @@ std::string build_model_xml(const DeviceDescription& device, const ModelOptions&
       fmt::arg("hand_geoms", anatomy.hand_geoms), fmt::arg("table", table));
 }
 
+std::string with_tendon_friction(std::string xml, double friction_n) {
+  const std::string tendon = "<spatial name=";
+  for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size())) {
+    xml.insert(at + tendon.find(' ') + 1, fmt::format("frictionloss=\"{:.10g}\" ", friction_n));
+  }
+  return xml;
+}
+
 }  // namespace softwrist::sim

@@ -58,4 +58,9 @@ inline constexpr const char* kWrapSurfaceNumeric = "softwrist.wrap_surface:";
 
 std::string build_model_xml(const DeviceDescription& device, const ModelOptions& options = {});
 
+// `xml` (build_model_xml's) with dry friction of `friction_n` [N] on every muscle's tendon path (MuJoCo's tendon
+// frictionloss: one constraint row per tendon, within the model's <size>): the muscles slide over the wrist against
+// it. Not in the paper's model; the diagnosis's synthetic device uses it as an effect outside the catalogue.
+std::string with_tendon_friction(std::string xml, double friction_n);
+
 }  // namespace softwrist::sim

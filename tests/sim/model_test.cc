@@ -403,17 +403,12 @@ TEST(ModelFreeMotion, FiniteAtEveryCornerOfThePressureGrid) {
 }
 
 // The model sizes mjData for its only constraint rows (model_builder.cc's <size>): the two joints' limits, and friction
-// loss on the four tendons where the diagnosis's synthetic device adds it (wrap friction, synthetic_device.cc). Pushed
+// loss on the four tendons where the diagnosis's synthetic device adds it (with_tendon_friction). Pushed
 // past both limits at once, every muscle at full pressure, every row acts and nothing is dropped or overflows.
 TEST(ModelFreeMotion, BothJointLimitsAndTendonFrictionFitTheConstraintSpace) {
   for (const bool tendon_friction : {false, true}) {
-    std::string xml = build_model_xml(paper_device());
-    if (tendon_friction) {
-      const std::string tendon = "<spatial name=";
-      for (auto at = xml.find(tendon); at != std::string::npos; at = xml.find(tendon, at + tendon.size()))
-        xml.insert(at + tendon.find(' ') + 1, "frictionloss=\"3\" ");
-    }
-    const Model model = Model::FromXml(xml, plugins());
+    const std::string plain = build_model_xml(paper_device());
+    const Model model = Model::FromXml(tendon_friction ? with_tendon_friction(plain, 3.0) : plain, plugins());
     const Data data = make_data(model);
     for (const double sign : {-1.0, 1.0}) {
       mj_resetData(model.get(), data.get());
