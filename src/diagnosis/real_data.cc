@@ -45,6 +45,34 @@ std::vector<int> clusters(const std::vector<double>& values, double gap) {
   return id;
 }
 
+std::vector<int> set_angle_clusters(const std::vector<double>& angles_deg) {
+  const std::vector<int> cluster = clusters(angles_deg, kHeldAngleGapDeg);
+  const int count = cluster.empty() ? 0 : *std::max_element(cluster.begin(), cluster.end()) + 1;
+  std::vector<double> sum(static_cast<std::size_t>(count), 0.0);
+  std::vector<int> size(static_cast<std::size_t>(count), 0);
+  for (std::size_t i = 0; i < angles_deg.size(); ++i) {
+    sum[static_cast<std::size_t>(cluster[i])] += angles_deg[i];
+    ++size[static_cast<std::size_t>(cluster[i])];
+  }
+  std::vector<int> merged(static_cast<std::size_t>(count), 0);
+  double set_sum = 0.0;  // [deg] the readings of the set angle so far
+  int set_count = 0, current = 0;
+  for (std::size_t c = 0; c < merged.size(); ++c) {
+    const double mean = sum[c] / size[c];
+    if (set_count > 0 && std::abs(mean - set_sum / set_count) > kSetAngleStepDeg) {
+      ++current;
+      set_sum = 0.0;
+      set_count = 0;
+    }
+    set_sum += sum[c];
+    set_count += size[c];
+    merged[c] = current;
+  }
+  std::vector<int> id(angles_deg.size());
+  for (std::size_t i = 0; i < angles_deg.size(); ++i) id[i] = merged[static_cast<std::size_t>(cluster[i])];
+  return id;
+}
+
 std::size_t Trial::size() const { return sweep.size() + rom.size() + tensile.size() + trajectory.size(); }
 
 namespace {
@@ -82,12 +110,6 @@ double measured_pressure_cell_kpa(const io::CsvTable& table, std::size_t row, in
     fail_at(table, row, fmt::format("{}: {} kPa is outside -20..1000 kPa", table.header()[column], kpa));
   return kpa;
 }
-
-// [deg] a sweep's reading further than this from the mean of the angle held so far starts the next set angle: twice
-// the clusters' gap (kHeldAngleGapDeg), as a measured held angle scatters (1 deg on the catalogue's rig) and a reading
-// up to 5 deg from its held angle's mean is still that set angle. Set angles a rig steps through are further apart
-// (the paper's 22.5 deg); set angles under 5 deg apart read as one, and a sweep reversing in such steps as one way.
-constexpr double kSetAngleStepDeg = 2.0 * kHeldAngleGapDeg;
 
 // How the wrist came to each held angle, in the log's order per muscle and repetition: the direction of the last
 // change of set angle, kept while the angle is held (other pressures). A change is a reading beyond kSetAngleStepDeg

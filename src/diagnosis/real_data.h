@@ -84,6 +84,16 @@ struct RealData {
 std::vector<int> clusters(const std::vector<double>& values, double gap);
 // [deg] held angles further apart than this are different set angles (a held angle's own jitter is smaller).
 inline constexpr double kHeldAngleGapDeg = 2.5;
+// [deg] a sweep's reading further than this from the mean of its held angle is another set angle: twice the clusters'
+// gap, as a measured held angle scatters (1 deg on the catalogue's rig) and a reading up to 5 deg from its held angle's
+// mean is still that set angle. Set angles a rig steps through are further apart (the paper's 22.5 deg); set angles
+// under 5 deg apart read as one.
+inline constexpr double kSetAngleStepDeg = 2.0 * kHeldAngleGapDeg;
+// The set angle of each of one muscle's sweep readings [deg], numbered in increasing angle: the clusters of
+// kHeldAngleGapDeg, neighbours merged while a cluster's mean lies within kSetAngleStepDeg of the set angle's mean so
+// far. The rule set_sweep_motion applies in the log's order, applied to the sorted readings: a jittered reading that
+// clusters apart stays its set angle's.
+std::vector<int> set_angle_clusters(const std::vector<double>& angles_deg);
 // [kPa] a sweep's pressure levels further apart than this are different levels (a regulated level's jitter is smaller).
 inline constexpr double kSweepLevelGapKpa = 5.0;
 

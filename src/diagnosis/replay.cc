@@ -256,7 +256,7 @@ PreparedTrial prepare_sweep(const Trial& trial) {
       angles.push_back(rad_to_deg(trial.sweep[i].angle));
       pressures_kpa.push_back(pa_to_kpa(trial.sweep[i].pressure));
     }
-    const std::vector<int> cluster = clusters(angles, kHeldAngleGapDeg);
+    const std::vector<int> cluster = set_angle_clusters(angles);
     const std::vector<int> level = clusters(pressures_kpa, kSweepLevelGapKpa);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const SweepPoint& s = trial.sweep[rows[k]];

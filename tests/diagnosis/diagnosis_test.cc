@@ -1070,6 +1070,17 @@ TEST_F(DiagnosisTest, AJitteredHeldAngleIsNoReversalOfTheSweep) {
   }
 }
 
+// The replay groups a sweep's readings by set angle (replay.cc, prepare_sweep: its noise groups, bootstrap units and
+// held-out checkerboard) by the same rule as the direction of approach: the reading 3.5 deg off its set angle's others
+// is a cluster of its own at 2.5 deg, and still that set angle; set angles 22.5 deg apart stay apart, and so do two
+// 6 deg apart (beyond the 5 deg rule), whatever the order of the readings.
+TEST(SetAngleClusters, AJitteredReadingStaysWithItsSetAngle) {
+  const std::vector<double> angles_deg = {-0.3, 22.8, -45.3, 3.5, 0.3, -44.7, 22.2, -0.3, 28.5, 28.2};
+  EXPECT_EQ(clusters(angles_deg, kHeldAngleGapDeg), (std::vector<int>{1, 3, 0, 2, 1, 0, 3, 1, 4, 4}));
+  EXPECT_EQ(set_angle_clusters(angles_deg), (std::vector<int>{1, 2, 0, 1, 1, 0, 2, 1, 3, 3}));
+  EXPECT_TRUE(set_angle_clusters({}).empty());
+}
+
 // The fabric's hysteresis as a state of the muscles' force (physics/fpam_hysteresis.h, issue 19): a device without
 // tensile tests or sweeps, only its range of motion and a trajectory, in which a fabric with h = 0.1 holds every
 // muscle on its shortening branch at its limit and lags the trajectory's force. The whole catalogue names hysteresis
