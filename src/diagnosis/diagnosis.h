@@ -98,15 +98,16 @@ struct DiagnosisOptions {
   // best mean of the four rates, 0.767 against 0.720 for the 0.4, 0.2, 1.5 chosen on calibration seed 1001 alone (27
   // data sets, settings_b59aeef.json) and in use until then: `none` 9 of 13 against 6, outside forms 44 of 52
   // against 46, single forms 168 of 221 against 169, pairs 50 of 65 both. The first calibration's 0.6 came from the
-  // catalogue generator's seeds 1001-1005, where single effects closed 0.63-0.99 of their gap. Also the share of the
-  // held-out error of the nominal as placed, over every trial, that an effect owning a tolerance pinned at its edge
-  // must close alone to be named where no trial keeps a gap (diagnosis.cc, effect_beyond_pinned_tolerance).
+  // catalogue generator's seeds 1001-1005, where single effects closed 0.63-0.99 of their gap.
   double explained_fraction = 0.5;
   // A device has several unmodelled effects at once. When no effect closes explained_fraction alone but the
   // combination does, the verdict names the combination's leading effect if that alone closes at least this much,
   // and reports the others (Diagnosis::also_effects): the larger named, the second reported (issue 20). Below it the
   // combination is a patchwork of small fits and the verdict stays "unexplained". Calibrated with
-  // explained_fraction (above): 0.2, the grid's lowest, in both calibrations.
+  // explained_fraction (above): 0.2, the grid's lowest, in both calibrations. Also the share of its base's held-out
+  // error that an effect owning a tolerance pinned at its edge must close alone to be named where the tolerances leave
+  // no gap or one below contradiction_gap (diagnosis.cc, effect_beyond_pinned_tolerance): the nominals' own pinned
+  // effects closed at most 0.05, the absorbed straps 0.34 and more (docs/diagnosis.md, "Tolerances").
   double pair_share = 0.2;
   // A trial's gap is within noise, however significant, while its systematic residual (in noise units, over all its
   // measurements) stays below this: a large data set detects systematic errors far smaller than its noise, such as a
@@ -134,7 +135,8 @@ struct DiagnosisOptions {
   int max_combined = 3;
   // How well the nominal placement is known (tolerance.h): a trial has a gap only if the nominal anywhere within them
   // leaves one, so that a device differing from its placement file only within its tolerances is `none` (unless the
-  // fit spends a box whole that the leading effect alone takes further: diagnosis.cc, effect_beyond_pinned_tolerance).
+  // fit spends a box whole that the effect owning it alone takes further: diagnosis.cc,
+  // effect_beyond_pinned_tolerance).
   Tolerances tolerances;
   int tolerance_evaluations = 200;  // the tolerance fit's budget of replays (its Jacobians included)
   // After the greedy combination, refit all its parameters together (joint_refit.h) with this budget of replays; 0:

@@ -272,12 +272,11 @@ TEST(DiagnosisVerdict, ARunnerUpFittedWithTheTolerancesIsNamedWhereItFitsTheTrai
 }
 
 // The nominal within its tolerances explains every trial, but only with a tolerance pinned at an edge of its box that
-// the combination's leader, fitted alone, takes beyond that edge while closing explained_fraction of the held-out
-// error: that effect is named. The figures are the independent device's seed 43 (development data,
-// dev_pinned_tolerance.json): strap_stiffening, whose tolerances closed the sweep's 19.65 noise units to 0.60 with the
-// mounts' series stiffness at its lower edge (21.12 N/cm^2 of 21.12-39.22) and the mount stretch alone at 13.0 closed
-// 69 %; the nominal, whose regulator's time constant sat at its upper edge (0.072 s) while the regulator alone, at
-// 0.036 s, closed 1 %.
+// an effect owning it, fitted alone, takes beyond that edge while closing pair_share of the held-out error: that effect
+// is named. The figures are the independent device's seed 43 (development data, dev_pinned_tolerance.json):
+// strap_stiffening, whose tolerances closed the sweep's 19.65 noise units to 0.60 with the mounts' series stiffness at
+// its lower edge (21.12 N/cm^2 of 21.12-39.22) and the mount stretch alone at 13.0 closed 69 %; the nominal, whose
+// regulator's time constant sat at its upper edge (0.072 s) while the regulator alone, at 0.036 s, closed 1 %.
 TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTheEffect) {
   using ::testing::HasSubstr;
   Diagnosis d;
@@ -316,27 +315,74 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   EXPECT_EQ(verdict(), "none") << d.reason;
   d.tolerance.params.front().second = 21.12;
   d.effects.front().params.back().second = 13.0;
-  // Closing less than explained_fraction (the mounts alone on seed 43's nominal: 30 %).
-  d.effects.front().shrink_fraction = 0.30;
+  // Closing less than pair_share (0.2): the relaxed wrist on the nominals of seeds 41 and 42 closed 0 and 5 %.
+  d.effects.front().shrink_fraction = 0.15;
   EXPECT_EQ(verdict(), "none") << d.reason;
+  // Not the combination's leader, closing pair_share or more: named all the same (calibration seed 1005's stiffening
+  // strap, which the fPAM led with 75 %, the mounts alone past the edge at 12.6 N/cm^2 closing 36 %).
+  d.effects.front().shrink_fraction = 0.36;
+  d.combination = {lag};
+  EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
+  d.combination = {mounts};
   d.effects.front().shrink_fraction = 0.69;
   // Fitted with its extensions, whose exponent or preload change what the series stiffness means.
   d.effects.front().extended = true;
   EXPECT_EQ(verdict(), "none") << d.reason;
   d.effects.front().extended = false;
-  // Not the combination's leader (the corrected model would not hold it), or not at an edge.
-  d.combination = {lag};
-  EXPECT_EQ(verdict(), "none") << d.reason;
-  d.combination = {mounts};
+  // Not at an edge.
   d.tolerance.at_bound = {"regulator_lag.time_constant_s"};
   EXPECT_EQ(verdict(), "none") << d.reason;
-  // A pinned regulator that leads: named only where its fit alone takes the time constant past the upper edge (and
-  // closes explained_fraction, 0.5).
+  // A pinned regulator: named only where its fit alone takes the time constant past the upper edge (and closes
+  // pair_share).
   d.effects.back().shrink_fraction = 0.55;
-  d.combination = {lag};
   EXPECT_EQ(verdict(), "none") << d.reason;  // 0.036 s: the other way
   d.effects.back().params.front().second = 0.09;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+  // Both pinned and beyond: the one closing more.
+  d.tolerance.at_bound = {"mount_stretch.K_series_n_per_cm2", "regulator_lag.time_constant_s"};
+  EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
+}
+
+// Where a small gap is left within the tolerances, below contradiction_gap, and no effect explains explained_fraction
+// of it, the verdict is `none` (the model's own inexactness) unless a pinned tolerance names its effect. The figures
+// are the independent device's seed 50 (its glove_slide data set, read after its report): the sweep 27.86 noise units
+// off as placed, 1.77 within the tolerances with the mounts' series stiffness at its lower edge, the mounts alone,
+// at 21.0 N/cm^2, closing 84 % of the error of the nominal as placed but -2 % of what the tolerances left.
+TEST(DiagnosisVerdict, ASmallGapLeftWithinTheTolerancesNamesTheEffectOfAPinnedTolerance) {
+  using ::testing::HasSubstr;
+  Diagnosis d;
+  d.tolerance.params = {{"mount_stretch.K_series_n_per_cm2", 21.12}};
+  d.tolerance.moved = {-1.0};
+  d.tolerance.boxes = {{21.12, 39.22}};
+  d.tolerance.at_bound = {"mount_stretch.K_series_n_per_cm2"};
+  const EffectFit mounts{.id = EffectId::kMountStretch,
+                         .name = "mount_stretch",
+                         .params = {{"K_series_n_per_cm2", 20.99}},
+                         .shrink_fraction = 0.84};
+  d.effects = {mounts};
+  d.combination = {mounts};
+  d.leading_effect = "mount_stretch";
+  d.explained_fraction = -0.02;
+  d.trials.push_back({.experiment = "torque_sweep/trials",
+                      .kind = TrialKind::kTorqueSweep,
+                      .excess_nominal = 27.86,
+                      .excess_corrected = 1.61,
+                      .excess_within_tolerance = 1.77,
+                      .p_value = 1e-30,
+                      .significant = true,
+                      .gap = true});
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "mount_stretch") << d.reason;
+  EXPECT_THAT(d.reason, HasSubstr("the largest gap left within them, 1.77 noise units (torque_sweep/trials)"));
+  // Within the box: the model's own inexactness.
+  d.effects.front().params.front().second = 21.5;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "none") << d.reason;
+  // Beyond, but the gap left evidences an effect outside the catalogue.
+  d.effects.front().params.front().second = 20.99;
+  d.trials.front().excess_within_tolerance = 3.5;
+  redecide(d, DiagnosisOptions{});
+  EXPECT_EQ(d.verdict, "unexplained") << d.reason;
 }
 
 // A gap trial as the second-effect rule reads it: significant, a gap, and what the leader's base left held out.
