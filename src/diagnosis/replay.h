@@ -32,6 +32,7 @@
 
 #include "diagnosis/effects.h"
 #include "diagnosis/real_data.h"
+#include "physics/pressure_regulator.h"
 #include "sim/model.h"
 #include "sim/plugins.h"
 
@@ -211,9 +212,17 @@ class ReplayEngine {
   // `drive`: the readings that drive the muscles (drive_readings), or null for the commands.
   std::shared_ptr<const Simulated> simulate(const Trial& trial, const ModelVariant& variant, double horizon,
                                             const std::vector<control::Pressures>* drive, double timestep);
-  // The regulators alone replaying the logged commands up to `horizon` [s], step by step as the plugin integrates
-  // them in MuJoCo (pressure_kpa only).
-  Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon) const;
+  using RegulatorStates = std::array<physics::RegulatedPressure, 4>;
+  // The regulators' state at a trajectory's first row as the model has it: settled under the first command where the
+  // angles were zeroed (as the wrist is pre-settled), vented otherwise.
+  RegulatorStates regulator_start(const Trial& trial, const ModelVariant& variant) const;
+  // The regulators alone replaying the logged commands from `start` up to `horizon` [s], step by step as the plugin
+  // integrates them in MuJoCo (pressure_kpa only).
+  Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon,
+                              const RegulatorStates& start) const;
+  // The regulators' state at the first row that fits the first measured pressures of a trajectory's `prepared`
+  // pressures (replay.cc says why).
+  RegulatorStates measured_regulator_start(const PreparedTrial& prepared, const ModelVariant& variant) const;
   // The settled angle [deg, own direction of each pose's `read` muscle] of each pose, in `fe`.
   std::shared_ptr<const Simulated> settle(const Trial& trial, const sim::DeviceDescription& device,
                                           const std::vector<RomPose>& poses, double timestep);
