@@ -817,9 +817,10 @@ TEST_F(DiagnosisTest, AnEffectStartBeyondTheGeometryFallsBackToItsNeutralValue) 
 // its tolerances, the fit that predicts the held-out data better kept. A device whose hand anchors and rest lengths
 // sit within their tolerances of the placement file, with a fabric hysteresis besides: fitted from the nominal as
 // placed, the hysteresis competes with the placement's scatter and the corrected model misses the held-out data by
-// 4.45 noise units; fitted within the tolerances, it takes what they leave, 1.58. (Its fraction comes out 0.026 for
-// the true 0.05 there, against 0.049 as placed: the relaxed wrist's damping, held at its tolerance's edge, took part
-// of the loss. Docs/diagnosis.md, Known limits.)
+// 2.54 noise units (4.45 before extensions were searched also where one trial keeps min_gap, commit 2c77788, the
+// relaxed wrist's among them); fitted within the tolerances, it takes what they leave, 1.63. (Its fraction comes
+// out 0.029 for the true 0.05 there, against 0.048 as placed: the relaxed wrist's damping, held at its tolerance's
+// edge, took part of the loss. Docs/diagnosis.md, Known limits.)
 TEST_F(DiagnosisTest, FromTheBetterOfBothBasesTheCorrectedModelPredictsBetter) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   const sim::DeviceDescription device = paper_device();
@@ -841,7 +842,7 @@ TEST_F(DiagnosisTest, FromTheBetterOfBothBasesTheCorrectedModelPredictsBetter) {
   EXPECT_EQ(f.base_parameters, better.tolerance.params.size());
   EXPECT_FALSE(fit_of(as_placed, EffectId::kHysteresis).within_tolerances);
   EXPECT_GT(param(f, "fraction"), 0.0);
-  EXPECT_LT(better.heldout_corrected, 0.6 * as_placed.heldout_corrected)
+  EXPECT_LT(better.heldout_corrected, 0.75 * as_placed.heldout_corrected)
       << better.heldout_corrected << " against " << as_placed.heldout_corrected;
 }
 
