@@ -297,8 +297,12 @@ void extend_where_a_gap_remains(const GapProblem& problem, std::vector<EffectFit
   }
   if (lowest == nullptr || !std::isfinite(lowest->heldout_error_after)) return;
   if (lowest->heldout_error_after < options.min_gap) {
+    // Only the trials scored (those with a gap as placed): a trial the nominal matched asks for no extension.
     const std::vector<double> excess = heldout_excess_by_trial(problem, lowest->heldout_after_sums);
-    if (std::none_of(excess.begin(), excess.end(), [&](double e) { return e >= options.min_gap; })) return;
+    bool trial_left = false;
+    for (std::size_t t = 0; t < excess.size(); ++t)
+      trial_left = trial_left || (problem.scored(t) && excess[t] >= options.min_gap);
+    if (!trial_left) return;
   }
   parallel_for(static_cast<int>(fits.size()), options.jobs, [&](int k) {
     EffectFit& fit = fits[static_cast<std::size_t>(k)];

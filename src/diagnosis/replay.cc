@@ -874,8 +874,10 @@ ReplayEngine::Simulated ReplayEngine::replay_regulators(const Trial& trial, cons
 // on, against 0.16 kPa of noise; its fit in the diagnosis took a 118 ms dead time and left 2.5-3.4 noise units). The
 // regulators' state at the first row is a nuisance of the trial, as the angles' origin is (add_zeroing_offsets):
 // fitted per muscle to the measured pressures of the first kWindow (least squares, from the training rows where the
-// trial has any), with the model's own response to a pressure and, second order, a rate moved from its start (linear
-// where the command is held: one Gauss-Newton step).
+// trial has any; a repetition held out whole fits its own from its first rows, 2 % of them), with the model's own
+// response to a pressure and, second order, a rate moved from its start: one Gauss-Newton step, exact where the
+// response is linear in the start (no vent time constant that the moved response switches to). A log that begins
+// later than the replay's first step keeps the model's start (the state is moved at t = 0).
 ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const PreparedTrial& prepared,
                                                                      const ModelVariant& variant) const {
   // [s] 18 rows at the paper's 14 ms loop: a level and a slope well fixed against 0.1-0.2 kPa of noise, short against
@@ -888,6 +890,7 @@ ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const Prepa
   const bool second_order = device.regulator.response().second_order();
   const RegulatorStates start = regulator_start(trial, variant);
   const double t0 = trial.trajectory.front().t;
+  if (t0 > 0.5 * steps_.trajectory) return start;
   const double horizon = std::min(trial.trajectory.back().t, t0 + kWindow);
   std::vector<RegulatorStates> starts(second_order ? 3 : 2, start);
   for (auto& s : starts[1]) s.pressure += kPressureStep;
@@ -914,12 +917,18 @@ ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const Prepa
       rhs += slope * (point.measured - gain * base - pa_to_kpa(variant.monitor_offset[m]));
     }
     if (!(normal(0, 0) > 0.0)) continue;  // no measured pressure in the window
-    // A rate the window does not fix (a flat response) is left at the model's.
-    const Eigen::Vector2d step = second_order && normal.determinant() > 1e-9 * normal(0, 0) * normal(1, 1)
-                                     ? Eigen::Vector2d(normal.ldlt().solve(rhs))
-                                     : Eigen::Vector2d(rhs(0) / normal(0, 0), 0.0);
+    // A rate the window hardly tells from the pressure (a fast second pole, gone by the first rows: correlation above
+    // 0.9995) is left at the model's rather than fitted to the noise.
+    const bool rate_fixed = second_order && normal.determinant() > 1e-3 * normal(0, 0) * normal(1, 1);
+    Eigen::Vector2d step =
+        rate_fixed ? Eigen::Vector2d(normal.ldlt().solve(rhs)) : Eigen::Vector2d(rhs(0) / normal(0, 0), 0.0);
     if (!step.allFinite()) continue;
-    fitted[m].pressure = std::clamp(start[m].pressure + step(0), 0.0, pa_to_kpa(device.regulator.max_pressure));
+    const double pressure = std::clamp(start[m].pressure + step(0), 0.0, pa_to_kpa(device.regulator.max_pressure));
+    if (rate_fixed && pressure != start[m].pressure + step(0)) {  // clamped: the rate refitted with it held
+      step(0) = pressure - start[m].pressure;
+      step(1) = (rhs(1) - normal(1, 0) * step(0)) / normal(1, 1);
+    }
+    fitted[m].pressure = pressure;
     fitted[m].rate = start[m].rate + step(1);
   }
   return fitted;
