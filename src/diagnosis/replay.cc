@@ -830,15 +830,14 @@ void step_regulators(const physics::RegulatorResponse& response, double max_kpa,
 }  // namespace
 
 ReplayEngine::RegulatorStates ReplayEngine::regulator_start(const Trial& trial, const ModelVariant& variant) const {
-  const sim::DeviceDescription& device = variant.device_for(trial);
-  const double dt = steps_.trajectory;
   RegulatorStates state{};
-  if (trial.conventions.angles_zeroed_at_start) {
-    // As the wrist's pre-settling: whole steps until kPreSettle (WristSim::run's rounding).
-    for (double t = 0.0; t < kPreSettle - 0.5 * dt; t += dt) {
-      step_regulators(device.regulator.response(), pa_to_kpa(device.regulator.max_pressure), dt,
-                      trial.trajectory.front().command_kpa, state);
-    }
+  if (!trial.conventions.angles_zeroed_at_start) return state;
+  const sim::DeviceDescription& device = variant.device_for(trial);
+  const physics::RegulatorResponse response = device.regulator.response();
+  const double max_kpa = pa_to_kpa(device.regulator.max_pressure), dt = steps_.trajectory;
+  // As the wrist's pre-settling: whole steps until kPreSettle (WristSim::run's rounding).
+  for (double t = 0.0; t < kPreSettle - 0.5 * dt; t += dt) {
+    step_regulators(response, max_kpa, dt, trial.trajectory.front().command_kpa, state);
   }
   return state;
 }
