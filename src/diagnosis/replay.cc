@@ -844,7 +844,9 @@ ReplayEngine::RegulatorStates ReplayEngine::regulator_start(const Trial& trial, 
 
 // replay_test checks it against the MuJoCo replay's pressures.
 ReplayEngine::Simulated ReplayEngine::replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon,
-                                                        const RegulatorStates& start) const {
+                                                        const RegulatorStates& start,
+                                                        const RegulatorStates* at_first_row,
+                                                        RegulatorStates* model_at_first_row) const {
   const sim::DeviceDescription& device = variant.device_for(trial);
   const physics::RegulatorResponse response = device.regulator.response();
   const double max_kpa = pa_to_kpa(device.regulator.max_pressure), dt = steps_.trajectory;
@@ -854,12 +856,18 @@ ReplayEngine::Simulated ReplayEngine::replay_regulators(const Trial& trial, cons
   Simulated result;
   result.dt = dt;
   const auto steps = static_cast<std::size_t>(std::ceil(horizon / dt)) + 1;
+  // The last step at or before the first row: the rows from it on lie between that step and later ones.
+  const auto first_row_step = static_cast<std::size_t>(std::floor(samples.front().t / dt + 1e-9));
   StepCommands commands(samples, variant.regulator_dead_time,
                         zeroed ? samples.front().command_kpa : control::Pressures{});
   control::Pressures command = zeroed ? samples.front().command_kpa : control::Pressures{};
   for (std::size_t k = 0; k < steps; ++k) {
     const double t = static_cast<double>(k) * dt;
     if (const auto changed = commands.over(t, t + dt)) command = *changed;
+    if (k == first_row_step) {
+      if (model_at_first_row != nullptr) *model_at_first_row = state;
+      if (at_first_row != nullptr) state = *at_first_row;
+    }
     for (std::size_t m = 0; m < 4; ++m) result.pressure_kpa[m].push_back(state[m].pressure);
     step_regulators(response, max_kpa, dt, command, state);
   }
@@ -874,9 +882,10 @@ ReplayEngine::Simulated ReplayEngine::replay_regulators(const Trial& trial, cons
 // regulators' state at the first row is a nuisance of the trial, as the angles' origin is (add_zeroing_offsets):
 // fitted per muscle to the measured pressures of the first kWindow (least squares, from the training rows where the
 // trial has any; a repetition held out whole fits its own from its first rows, 2 % of them), with the model's own
-// response to a pressure and, second order, a rate moved from its start: one Gauss-Newton step, exact where the
-// response is linear in the start (no vent time constant that the moved response switches to). A log that begins
-// later than the replay's first step keeps the model's start (the state is moved at t = 0).
+// response to a pressure and, second order, a rate moved at the first row: one Gauss-Newton step, exact where the
+// response is linear in the state (no vent time constant that the moved response switches to). The state is moved at
+// the first row's step, not at t = 0: a log that begins seconds in would otherwise ask a start the regulators forgot
+// long before, and a pressure clamped to the regulator's range there.
 ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const PreparedTrial& prepared,
                                                                      const ModelVariant& variant) const {
   // [s] 18 rows at the paper's 14 ms loop: a level and a slope well fixed against 0.1-0.2 kPa of noise, short against
@@ -887,17 +896,17 @@ ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const Prepa
   const Trial& trial = *prepared.trial;
   const sim::DeviceDescription& device = variant.device_for(trial);
   const bool second_order = device.regulator.response().second_order();
-  const RegulatorStates start = regulator_start(trial, variant);
+  const RegulatorStates settled = regulator_start(trial, variant);
   const double t0 = trial.trajectory.front().t;
-  if (t0 > 0.5 * steps_.trajectory) return start;
   const double horizon = std::min(trial.trajectory.back().t, t0 + kWindow);
-  std::vector<RegulatorStates> starts(second_order ? 3 : 2, start);
-  for (auto& s : starts[1]) s.pressure += kPressureStep;
+  RegulatorStates start{};  // the model's state at the first row
+  std::vector<Simulated> runs{replay_regulators(trial, variant, horizon, settled, nullptr, &start)};
+  std::vector<RegulatorStates> moved(second_order ? 2 : 1, start);
+  for (auto& s : moved[0]) s.pressure += kPressureStep;
   if (second_order) {
-    for (auto& s : starts[2]) s.rate += kRateStep;
+    for (auto& s : moved[1]) s.rate += kRateStep;
   }
-  std::vector<Simulated> runs;
-  for (const RegulatorStates& s : starts) runs.push_back(replay_regulators(trial, variant, horizon, s));
+  for (const RegulatorStates& s : moved) runs.push_back(replay_regulators(trial, variant, horizon, settled, &s));
   const bool any_training =
       std::any_of(prepared.points.begin(), prepared.points.end(), [](const Point& p) { return !p.heldout; });
   RegulatorStates fitted = start;
@@ -918,12 +927,12 @@ ReplayEngine::RegulatorStates ReplayEngine::measured_regulator_start(const Prepa
     if (!(normal(0, 0) > 0.0)) continue;  // no measured pressure in the window
     // A rate the window hardly tells from the pressure (a fast second pole, gone by the first rows: correlation above
     // 0.9995) is left at the model's rather than fitted to the noise.
-    const bool rate_fixed = second_order && normal.determinant() > 1e-3 * normal(0, 0) * normal(1, 1);
+    const bool rate_fitted = second_order && normal.determinant() > 1e-3 * normal(0, 0) * normal(1, 1);
     Eigen::Vector2d step =
-        rate_fixed ? Eigen::Vector2d(normal.ldlt().solve(rhs)) : Eigen::Vector2d(rhs(0) / normal(0, 0), 0.0);
+        rate_fitted ? Eigen::Vector2d(normal.ldlt().solve(rhs)) : Eigen::Vector2d(rhs(0) / normal(0, 0), 0.0);
     if (!step.allFinite()) continue;
     const double pressure = std::clamp(start[m].pressure + step(0), 0.0, pa_to_kpa(device.regulator.max_pressure));
-    if (rate_fixed && pressure != start[m].pressure + step(0)) {  // clamped: the rate refitted with it held
+    if (rate_fitted && pressure != start[m].pressure + step(0)) {  // clamped: the rate refitted with it held
       step(0) = pressure - start[m].pressure;
       step(1) = (rhs(1) - normal(1, 0) * step(0)) / normal(1, 1);
     }
@@ -1167,10 +1176,14 @@ std::vector<double> ReplayEngine::predict_trajectory(const PreparedTrial& prepar
     return std::vector<double>(prepared.points.size(), NAN);
   const double horizon = training_only ? prepared.training_end_s : trial.trajectory.back().t;
   // Measured pressures compared with the regulators alone where measured pressures drive the angles' replay (cheap:
-  // at the fine step in either fidelity).
+  // at the fine step in either fidelity), from the state their first rows show.
+  const auto regulators_alone = [&] {
+    const RegulatorStates first_row = measured_regulator_start(prepared, variant);
+    return std::make_shared<const Simulated>(
+        replay_regulators(trial, variant, horizon, regulator_start(trial, variant), &first_row));
+  };
   const auto simulated = prepared.pressures && angles_from_measured_pressures(trial)
-                             ? std::make_shared<const Simulated>(replay_regulators(
-                                   trial, variant, horizon, measured_regulator_start(prepared, variant)))
+                             ? regulators_alone()
                              : simulate(trial, variant, horizon,
                                         prepared.angles_from_measured_pressures ? &prepared.drive_readings : nullptr,
                                         fidelity == Fidelity::kCoarse ? steps_.coarse : steps_.trajectory);

@@ -217,9 +217,11 @@ class ReplayEngine {
   // angles were zeroed (as the wrist is pre-settled), vented otherwise.
   RegulatorStates regulator_start(const Trial& trial, const ModelVariant& variant) const;
   // The regulators alone replaying the logged commands from `start` up to `horizon` [s], step by step as the plugin
-  // integrates them in MuJoCo (pressure_kpa only).
+  // integrates them in MuJoCo (pressure_kpa only). At the step of the first row (the last at or before its time) the
+  // state is stored in `model_at_first_row` where given, then replaced by `at_first_row` where given.
   Simulated replay_regulators(const Trial& trial, const ModelVariant& variant, double horizon,
-                              const RegulatorStates& start) const;
+                              const RegulatorStates& start, const RegulatorStates* at_first_row = nullptr,
+                              RegulatorStates* model_at_first_row = nullptr) const;
   // The regulators' state at the first row that fits the first measured pressures of a trajectory's `prepared`
   // pressures (replay.cc says why).
   RegulatorStates measured_regulator_start(const PreparedTrial& prepared, const ModelVariant& variant) const;

@@ -269,52 +269,109 @@ TEST_F(ReplayDeadTime, TheRegulatorsAloneGiveTheSimulationsPressures) {
 }
 
 // A log that begins while the regulators still move (issue 20: the independent rig's trials begin 0.3-1 s after the
-// first pressures were commanded, and a ringing regulator takes seconds to settle): the model's start, settled under
-// the first command, misses the first rows by 12 kPa. Fitted to the first measured pressures (ReplayEngine::
-// measured_regulator_start), the start is the one the log began from, pressure and rate, and the replay is the log,
-// first and second order, the rows after the fitted window too (a step at 0.49 s).
-TEST(ReplayRegulatorStart, ALogThatBeginsWhileTheRegulatorsStillMoveIsReplayedFromItsFirstMeasuredPressures) {
+// first pressures were commanded, and a ringing regulator takes seconds to settle): muscles 0 and 1 start 12 kPa and 6
+// kPa off the model's start (settled under the first command), moving, and muscle 0's command steps at 0.49 s. A row
+// every 14 ms (the paper's loop) from first_row_s on; truth holds the regulators' own pressures at each row, the log's
+// measured pressures those with the monitors' noise where noise is given.
+struct LateStart {
+  ModelVariant variant;
+  Trial trial;
+  std::vector<control::Pressures> truth;
+};
+
+LateStart late_start_log(bool second_order, double first_row_s, std::mt19937* noise) {
   constexpr double kDt = 0.001;  // [s] ReplaySteps::trajectory
-  for (const bool second_order : {false, true}) {
-    ModelVariant variant{.device = sim::paper_device()};
-    variant.device.regulator.time_constant = 0.08;
-    if (second_order) variant.device.regulator.second_order_time = 0.15;  // damping ratio 0.27: it rings
-    const physics::RegulatorResponse response = variant.device.regulator.response();
-    Trial trial{.kind = TrialKind::kTrajectory, .name = "late start", .file = "late.csv"};
-    trial.conventions.angles_zeroed_at_start = true;
-    std::array<physics::RegulatedPressure, 4> state{};
-    state[0] = {8.0, second_order ? 150.0 : 0.0};
-    state[1] = {36.0, second_order ? -50.0 : 0.0};
-    for (int k = 0; k <= 1500; ++k) {
-      const double t = kDt * k;
-      const control::Pressures command{t >= 0.49 ? 60.0 : 20.0, 30.0, 0.0, 0.0};
-      if (k % 14 == 0) {  // a row every 14 ms, the paper's loop
-        control::Pressures read{};
-        for (std::size_t m = 0; m < 4; ++m) read[m] = state[m].pressure;
-        trial.trajectory.push_back({.t = t, .command_kpa = command, .measured_kpa = read});
+  LateStart log{.variant = ModelVariant{.device = sim::paper_device()},
+                .trial = Trial{.kind = TrialKind::kTrajectory, .name = "late start", .file = "late.csv"}};
+  log.variant.device.regulator.time_constant = 0.08;
+  if (second_order) log.variant.device.regulator.second_order_time = 0.15;  // damping ratio 0.27: it rings
+  const physics::RegulatorResponse response = log.variant.device.regulator.response();
+  log.trial.conventions.angles_zeroed_at_start = true;
+  std::array<physics::RegulatedPressure, 4> state{};
+  state[0] = {8.0, second_order ? 150.0 : 0.0};
+  state[1] = {36.0, second_order ? -50.0 : 0.0};
+  std::normal_distribution<double> monitor(0.0, 0.15);  // [kPa] the independent rig's monitors
+  for (int k = 0; k <= 1500; ++k) {
+    const double t = kDt * k;
+    const control::Pressures command{t >= 0.49 ? 60.0 : 20.0, 30.0, 0.0, 0.0};
+    if (k % 14 == 0 && t >= first_row_s - 1e-9) {
+      control::Pressures truth{}, read{};
+      for (std::size_t m = 0; m < 4; ++m) {
+        truth[m] = state[m].pressure;
+        // Read to the bridge's 0.1 kPa where noisy.
+        read[m] = noise == nullptr ? truth[m] : std::round(10.0 * (truth[m] + monitor(*noise))) / 10.0;
       }
-      for (std::size_t m = 0; m < 4; ++m) {  // as the plugin steps them (ReplayEngine::replay_regulators)
-        if (second_order) {
-          state[m] = physics::regulator_step(response, state[m], command[m], kDt);
-        } else {
-          state[m].pressure += kDt * physics::pressure_rate(response, command[m], state[m].pressure);
+      log.trial.trajectory.push_back({.t = t, .command_kpa = command, .measured_kpa = read});
+      log.truth.push_back(truth);
+    }
+    for (std::size_t m = 0; m < 4; ++m) {  // as the plugin steps them (ReplayEngine::replay_regulators)
+      if (second_order) {
+        state[m] = physics::regulator_step(response, state[m], command[m], kDt);
+      } else {
+        state[m].pressure += kDt * physics::pressure_rate(response, command[m], state[m].pressure);
+      }
+    }
+  }
+  return log;
+}
+
+// The regulators' pressures replayed at each row of the log's pressures trial, muscle-major.
+std::vector<double> replay_pressures(const LateStart& log) {
+  RealData data;
+  data.trials.push_back(log.trial);
+  ReplayEngine engine(sim::PluginSet::Default());
+  const std::vector<PreparedTrial> prepared = prepare(data, engine, ModelVariant{.device = sim::paper_device()});
+  EXPECT_TRUE(prepared.at(1).pressures);
+  return engine.predict(prepared.at(1), log.variant, false);
+}
+
+// Fitted to the first measured pressures (ReplayEngine::measured_regulator_start), the state at the first row is the
+// one the log began from, pressure and rate, and the replay is the log, first and second order, the rows after the
+// fitted window too; so too where the log's first row comes 0.3 s after the replay's start (the state is moved at the
+// first row, not at t = 0, where a start 12 kPa off would have decayed to 0.3 kPa).
+TEST(ReplayRegulatorStart, ALogThatBeginsWhileTheRegulatorsStillMoveIsReplayedFromItsFirstMeasuredPressures) {
+  for (const double first_row_s : {0.0, 0.3}) {
+    for (const bool second_order : {false, true}) {
+      const LateStart log = late_start_log(second_order, first_row_s, nullptr);
+      ASSERT_GE(log.trial.trajectory.front().t, first_row_s);
+      const std::vector<double> replayed = replay_pressures(log);
+      const std::size_t n = log.truth.size();
+      ASSERT_EQ(replayed.size(), 4 * n);
+      for (std::size_t m = 0; m < 4; ++m) {
+        for (std::size_t i = 0; i < n; ++i) {
+          EXPECT_NEAR(replayed[m * n + i], log.truth[i][m], 1e-6) << "first row " << first_row_s << " s, second order "
+                                                                  << second_order << ", muscle " << m << ", row " << i;
         }
       }
     }
-    RealData data;
-    data.trials.push_back(trial);
-    ReplayEngine engine(sim::PluginSet::Default());
-    const std::vector<PreparedTrial> prepared = prepare(data, engine, ModelVariant{.device = sim::paper_device()});
-    ASSERT_TRUE(prepared.at(1).pressures);
-    const std::vector<double> replayed = engine.predict(prepared.at(1), variant, false);
-    const std::size_t n = trial.trajectory.size();
-    ASSERT_EQ(replayed.size(), 4 * n);
-    for (std::size_t m = 0; m < 4; ++m) {
-      for (std::size_t i = 0; i < n; ++i) {
-        EXPECT_NEAR(replayed[m * n + i], (*trial.trajectory[i].measured_kpa)[m], 1e-6)
-            << "second order " << second_order << ", muscle " << m << ", row " << i;
+  }
+}
+
+// The same logs read by monitors with 0.15 kPa of noise to 0.1 kPa (the independent rig's): the start is fitted to
+// 18 noisy rows, and the replay follows the regulators' own pressures to a fraction of the noise over the whole log
+// (rms over 20 logs), where the model's settled start misses the first rows by up to 12 kPa.
+TEST(ReplayRegulatorStart, MonitorNoiseMovesTheFittedStartByAFractionOfTheNoise) {
+  std::mt19937 noise(20261202);
+  for (const bool second_order : {false, true}) {
+    double squares = 0.0, first_row = 0.0;
+    std::size_t count = 0;
+    for (int log_index = 0; log_index < 20; ++log_index) {
+      const LateStart log = late_start_log(second_order, 0.0, &noise);
+      const std::vector<double> replayed = replay_pressures(log);
+      const std::size_t n = log.truth.size();
+      ASSERT_EQ(replayed.size(), 4 * n);
+      for (std::size_t m = 0; m < 4; ++m) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const double error = replayed[m * n + i] - log.truth[i][m];
+          squares += error * error;
+          ++count;
+          if (i == 0) first_row = std::max(first_row, std::abs(error));
+        }
       }
     }
+    const double rms = std::sqrt(squares / static_cast<double>(count));
+    EXPECT_LT(rms, 0.05) << "second order " << second_order;       // [kPa] a third of the monitors' noise
+    EXPECT_LT(first_row, 0.3) << "second order " << second_order;  // [kPa] two noise units at worst
   }
 }
 
