@@ -363,17 +363,10 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
   return fit;
 }
 
-bool extensions_searched(const EffectFit& fit, const DiagnosisOptions& options) {
-  // A circle fitted to a long ellipse's sweeps can cut their training error by 60 % and miss the held-out trials by
-  // more than before.
-  return fit.applicable && (fit.shrink_fraction >= options.min_gain ||
-                            fit.train_error_after < (1.0 - options.min_gain) * fit.train_error_before);
-}
-
 bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base, const sim::DeviceDescription& nominal,
                 const DiagnosisOptions& options, std::uint64_t seed) {
   const EffectSpec& spec = effect_spec(fit.id);
-  if (!extensions_searched(fit, options) || parameter_indices(spec, /*extensions=*/true).empty()) return false;
+  if (!fit.applicable || parameter_indices(spec, /*extensions=*/true).empty()) return false;
   const EffectObjective objective(problem, fit.id, base, fit.evaluations);
   SearchedPoint base_optimum{.u = {}, .training_error = fit.train_error_after};
   for (std::size_t i = 0; i < spec.parameters.size(); ++i)

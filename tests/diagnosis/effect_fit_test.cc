@@ -209,25 +209,6 @@ TEST(BootstrapInterval, ResamplesHoldingNoUnitTheChangeMovesSayNothing) {
   EXPECT_GT(all_low, 0.0) << "interval " << all_low << " to " << all_high;
 }
 
-// Which base-form fits have their extensions searched (extend_fit): one that closes min_gain (0.1) of the held-out gap,
-// or one that cuts the training error by min_gain while the held-out gap grows (an elliptical_section data set: a
-// circle fitted to a long ellipse's sweeps cut their training error 224 -> 84 and missed the held-out trials by more
-// than before); not one that does neither, nor an inapplicable one.
-TEST(ExtensionsSearched, WhereTheBaseFormClosesTheHeldOutGapOrCutsTheTrainingError) {
-  const DiagnosisOptions options;
-  EffectFit fit{.name = "wrap_geometry"};
-  fit.train_error_before = 224.0;
-  fit.train_error_after = 84.0;
-  fit.shrink_fraction = -0.2;
-  EXPECT_TRUE(extensions_searched(fit, options));
-  fit.train_error_after = 0.95 * fit.train_error_before;
-  EXPECT_FALSE(extensions_searched(fit, options));
-  fit.shrink_fraction = options.min_gain;
-  EXPECT_TRUE(extensions_searched(fit, options));
-  fit.applicable = false;
-  EXPECT_FALSE(extensions_searched(fit, options));
-}
-
 // The training gap is taken over every trial, the held-out error over the scored ones: a model that leaves a trial the
 // tolerances explain (not scored) 3 noise units off answers for it on the training part (GapProblem::training_gap).
 TEST(TrainingGap, CountsEveryTrialWhateverIsScored) {
