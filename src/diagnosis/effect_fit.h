@@ -75,16 +75,16 @@ EffectFit fit_effect(const GapProblem& problem, EffectId id, const BaseModel& ba
                      const EffectSearch* searched = nullptr);
 
 // The extensions of an applicable base-form `fit` on the same `base`, whatever its base form closed (an extension can
-// change the form's shape where the base form has nothing to move: a relaxed wrist softer towards flexion and stiffer
-// towards extension, its mean stiffness near the nominal's, is not fitted by one scale; the gate of commit 1e77e5d, the
-// base form closing min_gain of the held-out gap or of the training error, left the independent benchmark's
-// direction_dependent at level 0.8 `unexplained`, docs/diagnosis.md): every parameter searched again, from the base
-// form's optimum and from the start, each with the extensions at 0.2, 0.5 and 0.8 of their ranges (a base form that has
-// taken part of an extension's effect can sit far from the joint optimum), then Levenberg-Marquardt from the best
-// (ranked on coarse replays, the first confirmed on fine ones: Fidelity). Kept, and `fit` updated with `extended` set,
-// only where they lower the held-out error by more than one paired bootstrap standard error (the one-standard-error
-// rule of the ranking, within an effect: a dead time the data pin down is not traded for a second-order regulator they
-// cannot tell from it). Returns whether they were kept.
+// change the form's shape where the base form has nothing to move: a relaxed wrist much softer towards flexion than
+// towards extension is not fitted by one scale; the gate of commit 1e77e5d, the base form closing min_gain of the
+// held-out gap or of the training error, left the independent benchmark's direction_dependent at level 0.8
+// `unexplained`, docs/diagnosis.md): every parameter searched again, from the base form's optimum and from the start,
+// each with the extensions at 0.2, 0.5 and 0.8 of their ranges (a base form that has taken part of an extension's
+// effect can sit far from the joint optimum), then Levenberg-Marquardt from the best (ranked on coarse replays, the
+// first confirmed on fine ones: Fidelity). Kept, and `fit` updated with `extended` set, only where they lower the
+// held-out error by more than one paired bootstrap standard error (the one-standard-error rule of the ranking, within
+// an effect: a dead time the data pin down is not traded for a second-order regulator they cannot tell from it).
+// Returns whether they were kept.
 bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base, const sim::DeviceDescription& nominal,
                 const DiagnosisOptions& options, std::uint64_t seed);
 

@@ -1340,9 +1340,12 @@ TEST_F(DiagnosisTest, ExtensionsAreSearchedWhereTheBaseFormClosesNothing) {
   const BaseModel base{.variant = nominal, .training = training, .full = full};
   EffectFit fit = fit_effect(problem, EffectId::kPassiveWrist, base, paper_device(), options, 7);
   ASSERT_TRUE(fit.applicable);
+  // Credited with nothing: neither of the held-out error nor of the training error (extend_fit reads neither figure).
   fit.shrink_fraction = 0.0;
-  fit.train_error_after = fit.train_error_before;
+  fit.train_error_before = fit.train_error_after;
+  const double base_form_heldout = fit.heldout_error_after;
   ASSERT_TRUE(extend_fit(problem, fit, base, paper_device(), options, 7));
+  EXPECT_LT(fit.heldout_error_after, base_form_heldout);
   EXPECT_TRUE(fit.extended);
   EXPECT_GT(fit.shrink_fraction, 0.8);
   EXPECT_NEAR(param(fit, "asymmetry_fe"), -0.5, 0.1);
