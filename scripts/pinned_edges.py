@@ -3,8 +3,12 @@
 nominal's fit pinned at an edge of their box whose own effect, fitted alone, went beyond the fitted value there (the
 rule compares with the box's edge itself, which the fitted value is within 2 % of the box's width of), and the share
 of the held-out error that effect closed (the pinned-tolerance rule, diagnosis.cc effect_beyond_pinned_tolerance).
+With --absorbed, also the verdict diagnosis.cc's name_absorbed_larger gives where the verdict names an effect: the
+pinned effect (without its extensions, closing pair_share) that closes more of its base's held-out error than the named
+effect's single fit closes of its own (for diagnoses kept by builds before that rule; the fitted value stands for the
+box's edge, as above).
 
-  python3 scripts/pinned_edges.py [--json] DIR [DIR ...]
+  python3 scripts/pinned_edges.py [--json] [--absorbed] DIR [DIR ...]
 """
 import glob
 import json
@@ -33,9 +37,25 @@ def pinned_beyond(diagnosis):
     return found
 
 
+PAIR_SHARE = 0.2  # DiagnosisOptions::pair_share, the calibrated setting
+
+
+def absorbed_larger(diagnosis, pinned):
+    """The verdict name_absorbed_larger gives: the pinned effect where it closes more than the named one."""
+    verdict = diagnosis["verdict"]
+    named = next((e for e in diagnosis.get("effects", []) if e["name"] == verdict), None)
+    eligible = [p for p in pinned if not p["extended"] and p["shrink_fraction"] >= PAIR_SHARE]
+    if verdict in ("none", "unexplained") or named is None or not eligible:
+        return verdict
+    best = max(eligible, key=lambda p: p["shrink_fraction"])
+    effect = best["parameter"].split(".")[0]
+    return effect if effect != verdict and best["shrink_fraction"] > named["shrink_fraction"] else verdict
+
+
 def main(argv):
     as_json = "--json" in argv
-    dirs = [a for a in argv if a != "--json"]
+    absorbed = "--absorbed" in argv
+    dirs = [a for a in argv if a not in ("--json", "--absorbed")]
     if not dirs:
         sys.exit(__doc__)
     rows = []
@@ -46,15 +66,19 @@ def main(argv):
         for f in files:
             with open(f) as handle:
                 diagnosis = json.load(handle)
+            pinned = pinned_beyond(diagnosis)
             rows.append({"data_set": os.path.basename(os.path.dirname(f)), "verdict": diagnosis["verdict"],
-                         "pinned_beyond": pinned_beyond(diagnosis)})
+                         "pinned_beyond": pinned})
+            if absorbed:
+                rows[-1]["absorbed_larger"] = absorbed_larger(diagnosis, pinned)
     if as_json:
         print(json.dumps(rows, indent=1))
         return
     for r in rows:
         cells = [f"{p['parameter']} {p['edge']:.4g}->{p['effect_value']:.4g} closes {p['shrink_fraction']:.2f}"
                  + (" (extended)" if p["extended"] else "") for p in r["pinned_beyond"]]
-        print(f"{r['data_set']:40s} {r['verdict']:14s} " + " | ".join(cells))
+        changed = f" -> {r['absorbed_larger']}" if r.get("absorbed_larger", r["verdict"]) != r["verdict"] else ""
+        print(f"{r['data_set']:40s} {r['verdict']:14s}{changed} " + " | ".join(cells))
 
 
 if __name__ == "__main__":
