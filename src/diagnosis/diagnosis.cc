@@ -1109,8 +1109,9 @@ void name_pinned_effect(Diagnosis& d, const PinnedBeyond& pinned, const std::str
 
 // Where the verdict names an effect but the tolerances absorbed another by spending its box whole
 // (effect_beyond_pinned_tolerance), the larger of the two is the one whose single fit closes more of its own base's
-// held-out error: the absorbed effect's own base has that box back at the nominal, so its share is its whole size,
-// which the gap left beyond the tolerances does not show. The named effect is then reported beside it. The
+// held-out error: the absorbed effect's own base has that box back at the nominal, so its share is its whole size
+// (the device's scatter within the box included, which one data set cannot separate from it), which the gap left
+// beyond the tolerances does not show. The named effect is then reported beside it. The
 // independent device's seed 54, a sliding glove (12.5 noise units in the torque sweep) beside a second-order
 // regulator (5.0 in the pressures): the tolerances pinned the mounts' series stiffness at 21.12 N/cm^2, the mounts
 // alone took it to 21.0 and closed 73 % of their base's error, the regulator 28 % of its, and the regulator was named.
