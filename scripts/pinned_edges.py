@@ -3,10 +3,10 @@
 nominal's fit pinned at an edge of their box whose own effect, fitted alone, went beyond the fitted value there (the
 rule compares with the box's edge itself, which the fitted value is within 2 % of the box's width of), and the share
 of the held-out error that effect closed (the pinned-tolerance rule, diagnosis.cc effect_beyond_pinned_tolerance).
-With --absorbed, also the verdict diagnosis.cc's name_absorbed_larger gives where the verdict names an effect: the
-pinned effect (without its extensions, closing pair_share) that closes more of its base's held-out error than the named
-effect's single fit closes of its own (for diagnoses kept by builds before that rule; the fitted value stands for the
-box's edge, as above).
+With --absorbed, also the verdict diagnosis.cc's name_absorbed_larger gives where the verdict names the combination's
+leader: the pinned effect (without its extensions, closing pair_share, a member of the combination) that closes more of
+its base's held-out error than the leader's single fit closes of its own (for diagnoses kept by builds before that rule;
+the fitted value stands for the box's edge, as above; pair_share at its calibrated 0.2).
 
   python3 scripts/pinned_edges.py [--json] [--absorbed] DIR [DIR ...]
 """
@@ -43,13 +43,14 @@ PAIR_SHARE = 0.2  # DiagnosisOptions::pair_share, the calibrated setting
 def absorbed_larger(diagnosis, pinned):
     """The verdict name_absorbed_larger gives: the pinned effect where it closes more than the named one."""
     verdict = diagnosis["verdict"]
+    members = [e["name"] for e in diagnosis.get("combination", [])]
     named = next((e for e in diagnosis.get("effects", []) if e["name"] == verdict), None)
     eligible = [p for p in pinned if not p["extended"] and p["shrink_fraction"] >= PAIR_SHARE]
-    if verdict in ("none", "unexplained") or named is None or not eligible:
+    if not members or verdict != members[0] or diagnosis.get("beyond_tolerance") or named is None or not eligible:
         return verdict
-    best = max(eligible, key=lambda p: p["shrink_fraction"])
+    best = max(eligible, key=lambda p: p["shrink_fraction"])  # the first of equals, as diagnosis.cc
     effect = best["parameter"].split(".")[0]
-    return effect if effect != verdict and best["shrink_fraction"] > named["shrink_fraction"] else verdict
+    return effect if effect in members and best["shrink_fraction"] > named["shrink_fraction"] else verdict
 
 
 def main(argv):

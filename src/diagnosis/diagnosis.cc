@@ -1107,25 +1107,30 @@ void name_pinned_effect(Diagnosis& d, const PinnedBeyond& pinned, const std::str
       tolerance_note(d), found);
 }
 
-// Where the verdict names an effect but the tolerances absorbed another by spending its box whole
-// (effect_beyond_pinned_tolerance), the larger of the two is the one whose single fit closes more of its own base's
-// held-out error: the absorbed effect's own base has that box back at the nominal, so its share is its whole size
-// (the device's scatter within the box included, which one data set cannot separate from it), which the gap left
-// beyond the tolerances does not show. The named effect is then reported beside it. The
-// independent device's seed 54, a sliding glove (12.5 noise units in the torque sweep) beside a second-order
-// regulator (5.0 in the pressures): the tolerances pinned the mounts' series stiffness at 21.12 N/cm^2, the mounts
-// alone took it to 21.0 and closed 73 % of their base's error, the regulator 28 % of its, and the regulator was named.
+// Where the verdict names the combination's leader but the tolerances absorbed another member by spending its box
+// whole (effect_beyond_pinned_tolerance), which of the two is larger is read from their single fits: each one's share
+// of its own base's held-out error, and the absorbed effect's base has that box back at the nominal. A rough
+// measure (two fractions of different bases, the device's scatter within the box counted with the effect, which one
+// data set cannot separate), but the gap the tolerances leave shows the absorbed effect hardly at all. Where the
+// absorbed one's share is the larger it is named and the leader reported beside it; both are in the corrected model
+// (the combination), which is why only a member counts. The independent device's seed 54, a sliding glove (12.5 noise
+// units in the torque sweep) beside a second-order regulator (5.0 in the pressures): the tolerances pinned the
+// mounts' series stiffness at 21.12 N/cm^2, the mounts alone took it to 21.0 and closed 73 % of their base's error,
+// the regulator 28 % of its, and the regulator had been named.
 void name_absorbed_larger(Diagnosis& d, const DiagnosisOptions& options) {
-  if (d.verdict == "none" || d.verdict == "unexplained") return;
+  if (d.combination.empty() || d.verdict != d.combination.front().name || !d.beyond_tolerance.empty()) return;
+  const auto pinned = effect_beyond_pinned_tolerance(d, options);
   const auto named =
       std::find_if(d.effects.begin(), d.effects.end(), [&](const EffectFit& e) { return e.name == d.verdict; });
-  const auto pinned = effect_beyond_pinned_tolerance(d, options);
-  if (named == d.effects.end() || !pinned || pinned->effect->name == d.verdict ||
+  const auto member = [&](const std::string& name) {
+    return std::any_of(d.combination.begin(), d.combination.end(), [&](const EffectFit& e) { return e.name == name; });
+  };
+  if (!pinned || named == d.effects.end() || !member(pinned->effect->name) ||
       !(pinned->effect->shrink_fraction > named->shrink_fraction))
     return;
   std::vector<std::string> also = {d.verdict};
   for (const std::string& e : d.also_effects)
-    if (e != pinned->effect->name && e != d.verdict) also.push_back(e);
+    if (e != pinned->effect->name) also.push_back(e);
   d.reason = fmt::format(
       "{} is the larger: the tolerances absorbed it at an edge, {}={:.4g}, which it fitted alone takes further "
       "({:.4g}) while closing {:.0f} % of its base's held-out error, against {:.0f} % for {} alone; as fitted, {}",

@@ -106,8 +106,9 @@ struct DiagnosisOptions {
   // combination is a patchwork of small fits and the verdict stays "unexplained". Calibrated with
   // explained_fraction (above): 0.2, the grid's lowest, in both calibrations. Also the share of its base's held-out
   // error that an effect owning a tolerance pinned at its edge must close alone to be named where the tolerances leave
-  // no gap or one below contradiction_gap (diagnosis.cc, effect_beyond_pinned_tolerance): the nominals' own pinned
-  // effects closed at most 0.05, the absorbed straps 0.34 and more (docs/diagnosis.md, "Tolerances").
+  // no gap or one below contradiction_gap (diagnosis.cc, effect_beyond_pinned_tolerance), or to be named before the
+  // combination's leader (name_absorbed_larger): the nominals' own pinned effects closed at most 0.05, the absorbed
+  // straps 0.34 and more (docs/diagnosis.md, "Tolerances").
   double pair_share = 0.2;
   // A trial's gap is within noise, however significant, while its systematic residual (in noise units, over all its
   // measurements) stays below this: a large data set detects systematic errors far smaller than its noise, such as a
@@ -272,7 +273,9 @@ struct Diagnosis {
   // beyond its own tolerance box counts (diagnosis.cc, measure_explained).
   std::string leading_effect;
   double explained_fraction = 0.0;
-  // When the verdict names the leading effect of a combination that closes the gap only together: the others.
+  // The other effects the verdict reports beside the one it names: the rest of a combination that closes the gap only
+  // together, a second effect that adds, or the leader a larger absorbed effect was named before
+  // (diagnosis.cc, name_absorbed_larger).
   std::vector<std::string> also_effects;
   // Where the nominal within its tolerances leaves a gap: each effect fitted on top of it (beyond_tolerance.h), best
   // first by the training error it leaves, and what it closes of the held-out gap beyond the tolerances. A device

@@ -344,11 +344,11 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
 }
 
-// Where the verdict names one effect but the tolerances absorbed another by spending its box whole, the larger is the
-// one whose single fit closes more of its own base's held-out error. The figures are the independent device's seed 54
-// (glove_slide+second_order_response, read after its report): the regulator led and explained 85 % of the held-out
-// gap, closing 28 % of its base's error; the mounts' series stiffness sat at its lower edge (21.12 N/cm^2), which the
-// mounts alone took to 21.0 while closing 73 % of theirs.
+// Where the verdict names the combination's leader but the tolerances absorbed another member by spending its box
+// whole, the larger is the one whose single fit closes more of its own base's held-out error. The figures are the
+// independent device's seed 54 (glove_slide+second_order_response, read after its report): the regulator led and
+// explained 85 % of the held-out gap, closing 28 % of its base's error; the mounts' series stiffness sat at its lower
+// edge (21.12 N/cm^2), which the mounts alone took to 21.0 while closing 73 % of theirs.
 TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClosesLessOfItsBase) {
   using ::testing::HasSubstr;
   Diagnosis d;
@@ -360,12 +360,13 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
                       .name = "regulator_lag",
                       .params = {{"time_constant_s", 0.122}},
                       .shrink_fraction = 0.28};
+  const EffectFit wrist{.id = EffectId::kPassiveWrist, .name = "passive_wrist", .shrink_fraction = 0.27};
   const EffectFit mounts{.id = EffectId::kMountStretch,
                          .name = "mount_stretch",
                          .params = {{"K_series_n_per_cm2", 21.0}},
                          .shrink_fraction = 0.73};
-  d.effects = {lag, mounts};
-  d.combination = {lag};
+  d.effects = {lag, wrist, mounts};
+  d.combination = {lag, wrist, mounts};
   d.leading_effect = "regulator_lag";
   d.explained_fraction = 0.85;
   d.gap_nominal = 1.56;
@@ -388,10 +389,24 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
   d.effects.back().shrink_fraction = 0.25;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
   EXPECT_TRUE(d.also_effects.empty());
+  // More than the leader but less than pair_share (0.2): as little as the nominals' own pinned effects close.
+  d.effects.front().shrink_fraction = 0.10;
+  d.effects.back().shrink_fraction = 0.15;
+  EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+  d.effects.front().shrink_fraction = 0.28;
   d.effects.back().shrink_fraction = 0.73;
+  // Not in the combination, so not in the corrected model: the leader stays.
+  d.combination = {lag, wrist};
+  EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+  // A pair verdict that reported the absorbed effect as its second: the leader takes its place beside it.
+  d.combination = {lag, mounts};
+  d.explained_fraction = 0.3;  // below explained_fraction alone; the pair closes 87 %
+  EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
+  EXPECT_EQ(d.also_effects, std::vector<std::string>{"regulator_lag"});
   // Within its box, or fitted with its extensions: no evidence the tolerances absorbed it.
   d.effects.back().params.front().second = 22.0;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+  EXPECT_EQ(d.also_effects, std::vector<std::string>{"mount_stretch"});
   d.effects.back().params.front().second = 21.0;
   d.effects.back().extended = true;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
