@@ -344,6 +344,15 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
 }
 
+// The nominal's tolerance fit with the mounts' series stiffness alone, pinned at its box's lower edge (21.12 of
+// 21.12-39.22 N/cm^2, 30 % below the nominal), as on the independent device's seeds 50 and 54.
+void pin_series_stiffness_at_lower_edge(ToleranceFit& fit) {
+  fit.params = {{"mount_stretch.K_series_n_per_cm2", 21.12}};
+  fit.moved = {-1.0};
+  fit.boxes = {{21.12, 39.22}};
+  fit.at_bound = {"mount_stretch.K_series_n_per_cm2"};
+}
+
 // Where the verdict names the combination's leader but the tolerances absorbed another member by spending its box
 // whole, the larger is the one whose single fit closes more of its own base's held-out error. The figures are the
 // independent device's seed 54 (glove_slide+second_order_response, read after its report): the regulator led and
@@ -352,10 +361,7 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
 TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClosesLessOfItsBase) {
   using ::testing::HasSubstr;
   Diagnosis d;
-  d.tolerance.params = {{"mount_stretch.K_series_n_per_cm2", 21.12}};
-  d.tolerance.moved = {-1.0};
-  d.tolerance.boxes = {{21.12, 39.22}};
-  d.tolerance.at_bound = {"mount_stretch.K_series_n_per_cm2"};
+  pin_series_stiffness_at_lower_edge(d.tolerance);
   const EffectFit lag{.id = EffectId::kRegulatorLag,
                       .name = "regulator_lag",
                       .params = {{"time_constant_s", 0.122}},
@@ -420,10 +426,7 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
 TEST(DiagnosisVerdict, ASmallGapLeftWithinTheTolerancesNamesTheEffectOfAPinnedTolerance) {
   using ::testing::HasSubstr;
   Diagnosis d;
-  d.tolerance.params = {{"mount_stretch.K_series_n_per_cm2", 21.12}};
-  d.tolerance.moved = {-1.0};
-  d.tolerance.boxes = {{21.12, 39.22}};
-  d.tolerance.at_bound = {"mount_stretch.K_series_n_per_cm2"};
+  pin_series_stiffness_at_lower_edge(d.tolerance);
   const EffectFit mounts{.id = EffectId::kMountStretch,
                          .name = "mount_stretch",
                          .params = {{"K_series_n_per_cm2", 20.99}},
