@@ -27,7 +27,8 @@ if [ "${1:-}" = "--tests" ]; then
     chromium                      # the report opened in a headless browser
     xvfb xauth libgl1-mesa-dri    # the GLFW viewer on a virtual display (xvfb-run), drawn by Mesa
     gcc-avr binutils-avr avr-libc arduino-core-avr  # the Arduino Uno firmware, compiled so that it cannot rot
-    clang-14 libclang-rt-14-dev   # the fuzz targets: libFuzzer with ASan + UBSan (scripts/fuzz.sh)
+    clang-14 libclang-rt-14-dev   # the sanitizer build and the fuzz targets: ASan + UBSan, libFuzzer (scripts/fuzz.sh)
+    lld                           # LLVM's linker (ld.lld), for those clang builds
     clang-format-14               # the C++ style check (scripts/check_format.sh)
     slurmctld slurmd slurm-client munge  # a one-node Slurm for the cluster scripts' test (scripts/slurm/selftest.sh)
   )

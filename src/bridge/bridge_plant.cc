@@ -43,10 +43,17 @@ constexpr int kSessionFaults = wire::kWatchdog | wire::kEmergencyStop | wire::kI
 }  // namespace
 
 BridgePlant::BridgePlant(SerialPort link, BridgeOptions options)
-    : BridgePlant(std::make_unique<SerialPort>(std::move(link)), steady_clock_, options) {}
+    : BridgePlant(std::make_unique<SerialPort>(std::move(link)), nullptr, options) {}
 
 BridgePlant::BridgePlant(std::unique_ptr<Link> link, const Clock& clock, BridgeOptions options)
-    : link_(std::move(link)), clock_(clock), epoch_s_(clock.now_s()), options_(options), gate_(options.limits) {
+    : BridgePlant(std::move(link), &clock, options) {}
+
+BridgePlant::BridgePlant(std::unique_ptr<Link> link, const Clock* clock, BridgeOptions options)
+    : link_(std::move(link)),
+      clock_(clock ? *clock : steady_clock_),
+      epoch_s_(clock_.now_s()),
+      options_(options),
+      gate_(options.limits) {
   if (options_.limits.max_dkpa <= 0 || options_.limits.rate_dkpa_s <= 0 || options_.limits.timeout_ms == 0) {
     throw std::invalid_argument("bridge: the pressure limit, rate limit and timeout must be positive");
   }

@@ -93,6 +93,10 @@ class BridgePlant final : public control::Plant {
   void handle_data(const DeviceData& data);
   void check_data_fresh();
   [[noreturn]] void fault(const std::string& cause);
+  // `clock` null: the plant's own steady clock. (A delegating constructor may not name steady_clock_ itself: the
+  // object's members may not be referred to before its constructor begins, C++ [class.cdtor]; clang's UBSan vptr
+  // check caught it.)
+  BridgePlant(std::unique_ptr<Link> link, const Clock* clock, BridgeOptions options);
 
   std::unique_ptr<Link> link_;
   SteadyClock steady_clock_;  // the clock when none is given

@@ -258,9 +258,10 @@ TEST(MusclePathBeyondTheReach, ContinuesThroughTheMountsFoot) {
   const Placement rig = paper::torque_measurement_flexor(StretchMode::kNone).placement;
   for (const auto& [placement, r_w, surface] : {std::tuple{ulnar, 0.0242, WrapSurface{.aspect = 1.53}},
                                                 std::tuple{rig, 0.0399, WrapSurface{.x = 0.05, .y = 0.0}}}) {
-    const auto inside = [&](double theta) {
-      const Point p = hand_mount(placement, theta);
-      return std::hypot((p.x - surface.x) / (surface.aspect * r_w), (p.y - surface.y) / r_w) < 1.0;
+    // Captured by name: clang 14 (the sanitizer build's compiler) cannot capture structured bindings.
+    const auto inside = [&mount = placement, r = r_w, &wrap = surface](double theta) {
+      const Point p = hand_mount(mount, theta);
+      return std::hypot((p.x - wrap.x) / (wrap.aspect * r), (p.y - wrap.y) / r) < 1.0;
     };
     ASSERT_FALSE(inside(0.0));
     // The first angle below zero where the mount is inside, then the crossing by bisection.

@@ -8,7 +8,13 @@
 
 #include <gtest/gtest.h>
 
-#if defined(__SANITIZE_ADDRESS__)
+// GCC says so with __SANITIZE_ADDRESS__, clang (the sanitizer build's compiler in CI) with __has_feature.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SOFTWRIST_UNDER_ADDRESS_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(SOFTWRIST_UNDER_ADDRESS_SANITIZER)
 #define SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS() \
   GTEST_SKIP() << "an end-to-end diagnosis: run in the normal build (bash scripts/test.sh), not under the sanitizers"
 #else
