@@ -37,11 +37,11 @@ TEST(BenchCase, SameSeedSameDeviceAndEachCaseInjectsItsEffect) {
 
 using BenchmarkTest = testing::ScratchDirTest;
 
-// One seed per case, 12 s trajectories, two repetitions: the targets hold at this size too.
+// One seed per case, 8 s trajectories, two repetitions: the targets hold at this size too.
 TEST_F(BenchmarkTest, FixedSeedsMeetTheTargets) {
   SOFTWRIST_SKIP_END_TO_END_UNDER_SANITIZERS();
   BenchOptions options{.seeds = 1, .first_seed = 1, .jobs = 2, .scratch = dir_};
-  options.plan.trajectory_s = 12.0;
+  options.plan.trajectory_s = 8.0;
   options.diagnosis.bootstrap = 50;
   const BenchResult r = run_benchmark(sim::paper_device(), options);
   const nlohmann::json j = to_json(r);
