@@ -15,7 +15,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   build_dir=build/asan
   # Clang 14, where the normal build is GCC 12: a second compiler's warnings, as errors, over the same code, and
   # clang's UBSan caught what GCC's did not (a member named in a delegating constructor, bridge_plant.cc). It builds
-  # this tree in about two thirds of GCC's time (README, "CI and how long it takes").
+  # this tree in about three quarters of GCC's time (README, "CI and how long it takes").
   options+=(-DSOFTWRIST_SANITIZE=ON -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14)
   # A tree configured with another compiler is configured afresh (CMake cannot switch a cache's compiler).
   cache=$build_dir/CMakeCache.txt
