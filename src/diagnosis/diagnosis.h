@@ -146,7 +146,7 @@ struct DiagnosisOptions {
   // Experimental, off by default (docs/diagnosis.md, "Ranked beyond the tolerances"): where the tolerances leave a gap,
   // rank every effect fitted on top of them and decide the verdict there (Diagnosis::beyond_tolerance), instead of from
   // the effects fitted from the nominal as placed. It names a regulator that vents slowly and an fPAM in another form,
-  // but loses the two-rig mount stiffness and the second of two effects (measured in the README).
+  // but loses the two-rig mount stiffness and the second of two effects (measured in docs/diagnosis-record.md).
   bool rank_beyond_tolerances = false;
   // Experimental, off by default (docs/diagnosis.md, "Repeated tasks tested whole"): a repetition of a repeated task
   // is significant also where its task's test on the repetitions' mean is (repeat_noise.h, repeat_mean_test) and that
@@ -154,9 +154,9 @@ struct DiagnosisOptions {
   bool repeat_mean_test = false;
   // The model each effect is fitted from, and the combination grown from (EffectBase). The default fits each effect
   // from both (the second where the first leaves a gap) and keeps the fit that predicts the held-out data better:
-  // measured on the independent device (README), 10 of 17 single forms named against 7 from the nominal as placed, with
-  // the catalogue benchmark's fixed seeds and the paper's case still right (from within the tolerances alone, the
-  // paper's case came out `unexplained`).
+  // measured on the independent device (docs/diagnosis-record.md), 10 of 17 single forms named against 7 from the
+  // nominal as placed, with the catalogue benchmark's fixed seeds and the paper's case still right (from within the
+  // tolerances alone, the paper's case came out `unexplained`).
   EffectBase effect_base = EffectBase::kBetterOfBoth;
   // Beyond the tolerances: how many of the best effects are refitted jointly with every tolerance, each with
   // tolerance_evaluations replays; by default, how many runners-up are, where the leading effect falls short
