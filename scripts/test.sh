@@ -9,13 +9,13 @@ bash scripts/setup.sh --tests
 
 build_dir=build/test
 # Line tables only (-g1), as the instrumented builds: a failure's stack trace still names file and line, and the
-# build is shorter (CI's time, README).
+# build is shorter (CI's time, docs/ci.md).
 options=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DSOFTWRIST_WERROR=ON)
 if [ "${1:-}" = "--sanitize" ]; then
   build_dir=build/asan
   # Clang 14, where the normal build is GCC 12: a second compiler's warnings, as errors, over the same code, and
   # clang's UBSan caught what GCC's did not (a member named in a delegating constructor, bridge_plant.cc). It builds
-  # this tree in about three quarters of GCC's time (README, "CI and how long it takes").
+  # this tree in about three quarters of GCC's time (docs/ci.md).
   options+=(-DSOFTWRIST_SANITIZE=ON -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14)
   # A tree configured with another compiler is configured afresh (CMake cannot switch a cache's compiler).
   cache=$build_dir/CMakeCache.txt
