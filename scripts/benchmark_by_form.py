@@ -44,6 +44,12 @@ def read_runs(paths):
     return runs
 
 
+def wrong_as(run):
+    """How a wrong verdict is listed: a pair's with the effect it should have named."""
+    verdict = run["verdict"] or "(failed)"
+    return f"{verdict} for {run['expected']}" if run["category"] == "pair" else verdict
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("files", nargs="+", help="diagnose-bench --out files")
@@ -52,14 +58,14 @@ def main():
     for run in read_runs(args.files):
         by_case[(run["category"], run["case"])].append(run)
     order = {"none": 0, "single": 1, "outside": 2, "pair": 3}
-    print(f"{'case':44} {'right':>9} {'Wilson 95 %':>13} {'median size':>11}  wrong verdicts")
+    print(f"{'case':44} {'right':>10} {'Wilson 95 %':>13} {'median size':>11}  wrong verdicts")
     for (category, case), runs in sorted(by_case.items(), key=lambda kv: (order.get(kv[0][0], 9), kv[0][1])):
         right = sum(1 for r in runs if r["verdict"] == r["expected"] and not r.get("error"))
         low, high = wilson(right, len(runs))
-        size = statistics.median(r.get("magnitude_noise_units", 0.0) for r in runs)
-        wrong = collections.Counter(
-            (r["verdict"] or "(failed)") if r["category"] != "pair" else f"{r['verdict']} for {r['expected']}"
-            for r in runs if r["verdict"] != r["expected"] or r.get("error"))
+        sizes = [r.get("magnitude_noise_units") for r in runs]
+        sizes = [x for x in sizes if isinstance(x, (int, float)) and math.isfinite(x)]
+        size = statistics.median(sizes) if sizes else float("nan")
+        wrong = collections.Counter(wrong_as(r) for r in runs if r["verdict"] != r["expected"] or r.get("error"))
         wrong_text = ", ".join(f"{verdict} {n}" for verdict, n in wrong.most_common())
         print(f"{case:44} {right:>4} of {len(runs):<2} {low:5.1f}-{high:5.1f} % {size:11.1f}  {wrong_text}")
 

@@ -24,6 +24,11 @@ def load(path):
         sys.exit(f"kept_fits: {path}: {e}")
 
 
+def number(value, spec):
+    """A JSON number as `spec` formats it; null (a NaN the diagnosis wrote) as "null"."""
+    return format(value, spec) if isinstance(value, (int, float)) else "null"
+
+
 def truth_text(data_set):
     path = os.path.join(data_set, "data", "truth.json")
     if not os.path.exists(path):
@@ -49,17 +54,19 @@ def main():
                 continue
             diagnosis = load(path)
             fits = [e for e in diagnosis.get("effects", []) if e.get("name") == args.effect]
-            if not fits:
-                print(f"{case}: verdict {diagnosis.get('verdict')}, no {args.effect} fit")
+            if not fits or not fits[0].get("applicable", True):
+                print(f"{case}: verdict {diagnosis.get('verdict')}, no {args.effect} fit" +
+                      (" (it acts on none of the trials)" if fits else ""))
                 continue
             fit = fits[0]
-            params = ", ".join(f"{k} {v:.4g}" for k, v in sorted(fit.get("params", {}).items()))
+            params = ", ".join(f"{k} {number(v, '.4g')}" for k, v in sorted(fit.get("params", {}).items()))
             base = "within tolerances" if fit.get("within_tolerances") else "as placed"
             print(f"{case}: verdict {diagnosis.get('verdict')}; {args.effect} {params}; closes "
-                  f"{fit.get('shrink_fraction', 0):.4f} ({fit.get('ci_low', 0):.4f} to {fit.get('ci_high', 0):.4f}) "
+                  f"{number(fit.get('shrink_fraction'), '.4f')} ({number(fit.get('ci_low'), '.4f')} to "
+                  f"{number(fit.get('ci_high'), '.4f')}) "
                   f"from the nominal {base}; truth: {truth_text(data_set)}")
             found += 1
-    if found == 0:
+    if found == 0:  # every data set read says so above; a status for scripts
         sys.exit(f"kept_fits: no kept diagnosis with a {args.effect} fit under {' '.join(args.dirs)}")
 
 
