@@ -196,7 +196,7 @@ std::vector<TrialGap> nominal_trial_gaps(const std::vector<PreparedTrial>& prepa
       gaps[t].significant = gaps[t].significant || task_gap;
     }
   }
-  for (auto& gap : gaps) gap.gap = gap.significant && gap.excess_nominal >= min_gap;
+  for (auto& gap : gaps) gap.gap = gap.gap_as_placed = gap.significant && gap.excess_nominal >= min_gap;
   return gaps;
 }
 
@@ -421,6 +421,29 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, EffectBases& b
   return fits;
 }
 
+// Each fit's share where it acts (EffectFit::shrink_where_acting), and its base form's where an extension replaced it.
+void measure_shares_where_acting(std::vector<EffectFit>& fits, const GapProblem& problem,
+                                 const std::vector<TrialGap>& trials, const EffectBases& bases) {
+  for (EffectFit& f : fits) {
+    if (!f.applicable) continue;
+    f.shrink_where_acting = f.shrink_fraction;
+    if (f.base_form) f.base_form->shrink_where_acting = f.base_form->shrink_fraction;
+    const EffectSpec& spec = effect_spec(f.id);
+    std::vector<bool> differs(trials.size(), false);
+    bool acts_on_scored = false;
+    for (std::size_t t = 0; t < trials.size(); ++t) {
+      acts_on_scored = acts_on_scored || (problem.scored(t) && acts_on(spec, problem.trials()[t]));
+      differs[t] = trials[t].gap_as_placed && acts_on(spec, problem.trials()[t]);
+    }
+    if (acts_on_scored || std::none_of(differs.begin(), differs.end(), [](bool b) { return b; })) continue;
+    const double before = problem.heldout_error(problem.heldout_sums(bases.of(f).full), nullptr, &differs);
+    f.shrink_where_acting = fraction_closed(before, problem.heldout_error(f.heldout_after_sums, nullptr, &differs));
+    if (f.base_form)
+      f.base_form->shrink_where_acting =
+          fraction_closed(before, problem.heldout_error(f.base_form->heldout_after_sums, nullptr, &differs));
+  }
+}
+
 struct Combination {
   std::vector<EffectFit> effects;  // in the order they joined
   ModelVariant model;
@@ -447,7 +470,8 @@ bool join_with_refit(const GapProblem& problem, Combination& c, std::vector<Effe
     const UnitSums after = problem.heldout_sums(full);
     joint.back().heldout_error_before = e0;
     joint.back().heldout_error_after = problem.heldout_error(after);
-    joint.back().shrink_fraction = fraction_closed(e0, joint.back().heldout_error_after);
+    joint.back().shrink_fraction = joint.back().shrink_where_acting =
+        fraction_closed(e0, joint.back().heldout_error_after);
     std::tie(joint.back().ci_low, joint.back().ci_high) =
         bootstrap_interval(problem, before, after, options.bootstrap, seed);
     if (joint.back().shrink_fraction < options.min_gain || (informative && !(joint.back().ci_low > 0.0))) continue;
@@ -728,7 +752,7 @@ EffectFit as_effect_fit(const Diagnosis::BeyondTolerance& b, double before) {
   f.train_error_after = b.train_error_with_effect;
   f.heldout_error_before = before;
   f.heldout_error_after = b.heldout_error_with_effect;
-  f.shrink_fraction = fraction_closed(before, b.heldout_error_with_effect);
+  f.shrink_fraction = f.shrink_where_acting = fraction_closed(before, b.heldout_error_with_effect);
   f.ci_low = b.ci_low;
   f.ci_high = b.ci_high;
   f.evaluations = b.evaluations;
@@ -1051,46 +1075,57 @@ void unexplained_where_contradicted(Diagnosis& d, const DiagnosisOptions& option
 }
 
 // A tolerance the nominal's fit pins at an edge of its box, where the effect owning it, fitted alone, takes the same
-// catalogue parameter beyond that edge and closes at least pair_share of the held-out error of its base: the device
-// lies beyond its tolerance there, and the tolerances absorbed the effect only by spending that box whole. Any such
-// effect, not only the combination's leader (until commit 084e178, with explained_fraction): the tolerances share the
-// effect out, and the whole fPAM, refitted as placed, can out-fit the mounts alone on a strap that stiffens (seed
-// 1005: the fPAM led with 75 %, the mounts alone took the series stiffness to 12.6 N/cm^2 past the edge's 21.1 and
-// closed 36 %). A nominal within its tolerances fits at the edges too (its regulator's time constant: 26 of the 27
-// data sets of seed 43), but the effect owning such an edge closes little alone: at most 0.05 of the error on the
-// nominals of seeds 41-43, 49, 50 and calibration seeds 1005-1024 (the relaxed wrist's damping; the regulator's 0.01),
-// against 0.34-0.84 where a strap stiffened or a glove slid (docs/diagnosis.md, "Tolerances"). Only a fit without its
-// extensions (EffectFit::extended): an exponent, a preload or a shaped share changes what its series stiffness means,
-// which the tolerance's box does not. Of several, the one closing most.
+// catalogue parameter beyond that edge and closes at least pair_share of the held-out error of its base where it acts
+// (EffectFit::shrink_where_acting): the device lies beyond its tolerance there, and the tolerances absorbed the effect
+// only by spending that box whole. Any such effect, not only the combination's leader (until commit 084e178, with
+// explained_fraction): the tolerances share the effect out, and the whole fPAM, refitted as placed, can out-fit the
+// mounts alone on a strap that stiffens (seed 1005: the fPAM led with 75 %, the mounts alone took the series stiffness
+// to 12.6 N/cm^2 past the edge's 21.1 and closed 36 %). A nominal within its tolerances fits at the edges too (its
+// regulator's time constant: 26 of the 27 data sets of seed 43), but the effect owning such an edge closes little
+// alone: at most 0.05 of the error on the nominals of seeds 41-43, 49, 50 and calibration seeds 1005-1024 (the relaxed
+// wrist's damping; the regulator's 0.01), against 0.34-0.84 where a strap stiffened or a glove slid (docs/diagnosis.md,
+// "Tolerances"). The effect is read in its base form: an exponent, a preload or a shaped share changes what its series
+// stiffness means, which the tolerance's box does not. Where its extensions were kept, the base form's fit they
+// replaced is read (EffectFit::base_form; until then such a fit was passed over). Of several, the one closing most.
 struct PinnedBeyond {
   const EffectFit* effect = nullptr;
-  std::string parameter;      // "mount_stretch.K_series_n_per_cm2"
-  double within = 0.0;        // the tolerance fit's value, at the edge
-  double effect_value = 0.0;  // the effect's own, beyond it
+  std::string parameter;         // "mount_stretch.K_series_n_per_cm2"
+  double within = 0.0;           // the tolerance fit's value, at the edge
+  double effect_value = 0.0;     // the effect's own, beyond it
+  double shrink_fraction = 0.0;  // the fit read's share where it acts (EffectFit::shrink_where_acting)
+  bool base_form = false;        // the fit read is the base form an extension replaced
 };
 std::optional<PinnedBeyond> beyond_pinned_edge(const ToleranceFit& fit, const EffectFit& effect) {
+  if (effect.extended && !effect.base_form) return std::nullopt;  // an extended fit whose base form was not kept
+  const auto& params = effect.extended ? effect.base_form->params : effect.params;
+  const double shrink = effect.extended ? effect.base_form->shrink_where_acting : effect.shrink_where_acting;
   for (std::size_t k = 0; k < fit.params.size(); ++k) {
     const auto& [name, within] = fit.params[k];
     const bool pinned = std::find(fit.at_bound.begin(), fit.at_bound.end(), name) != fit.at_bound.end();
     if (!pinned || !name.starts_with(effect.name + ".")) continue;
     if (k >= fit.boxes.size()) throw std::logic_error("a tolerance fit without the boxes of its parameters");
     const std::string own = name.substr(effect.name.size() + 1);
-    const auto value =
-        std::find_if(effect.params.begin(), effect.params.end(), [&](const auto& p) { return p.first == own; });
-    if (value == effect.params.end()) continue;
+    const auto value = std::find_if(params.begin(), params.end(), [&](const auto& p) { return p.first == own; });
+    if (value == params.end()) continue;
     const auto [low, high] = fit.boxes[k];
     const bool at_low = std::abs(within - low) < std::abs(within - high);
     if (at_low ? value->second < low : value->second > high)
-      return PinnedBeyond{.effect = &effect, .parameter = name, .within = within, .effect_value = value->second};
+      return PinnedBeyond{.effect = &effect,
+                          .parameter = name,
+                          .within = within,
+                          .effect_value = value->second,
+                          .shrink_fraction = shrink,
+                          .base_form = effect.extended};
   }
   return std::nullopt;
 }
 std::optional<PinnedBeyond> effect_beyond_pinned_tolerance(const Diagnosis& d, const DiagnosisOptions& options) {
   std::optional<PinnedBeyond> best;
   for (const EffectFit& e : d.effects) {
-    if (!e.applicable || e.extended || e.shrink_fraction < options.pair_share) continue;
-    if (best && best->effect->shrink_fraction >= e.shrink_fraction) continue;
-    if (auto pinned = beyond_pinned_edge(d.tolerance, e)) best = std::move(pinned);
+    if (!e.applicable) continue;
+    if (auto pinned = beyond_pinned_edge(d.tolerance, e); pinned && pinned->shrink_fraction >= options.pair_share &&
+                                                          (!best || pinned->shrink_fraction > best->shrink_fraction))
+      best = std::move(pinned);
   }
   return best;
 }
@@ -1100,11 +1135,11 @@ std::optional<PinnedBeyond> effect_beyond_pinned_tolerance(const Diagnosis& d, c
 void name_pinned_effect(Diagnosis& d, const PinnedBeyond& pinned, const std::string& found) {
   d.verdict = pinned.effect->name;
   d.reason = fmt::format(
-      "the nominal within its tolerances fits the trials only at an edge of a tolerance, {}={:.4g}, which {} "
-      "fitted alone takes further ({:.4g}) while closing {:.0f} % of the held-out error: the device lies beyond its "
-      "tolerance there{}; {}",
-      pinned.parameter, pinned.within, pinned.effect->name, pinned.effect_value, 100.0 * pinned.effect->shrink_fraction,
-      tolerance_note(d), found);
+      "the nominal within its tolerances fits the trials only at an edge of a tolerance, {}={:.4g}, which {} fitted "
+      "alone{} takes further ({:.4g}) while closing {:.0f} % of its base's held-out error where it acts: the device "
+      "lies beyond its tolerance there{}; {}",
+      pinned.parameter, pinned.within, pinned.effect->name, pinned.base_form ? " in its base form" : "",
+      pinned.effect_value, 100.0 * pinned.shrink_fraction, tolerance_note(d), found);
 }
 
 // Where the verdict names the combination's leader but the tolerances absorbed another member by spending its box
@@ -1116,7 +1151,8 @@ void name_pinned_effect(Diagnosis& d, const PinnedBeyond& pinned, const std::str
 // (the combination), which is why only a member counts. The independent device's seed 54, a sliding glove (12.5 noise
 // units in the torque sweep) beside a second-order regulator (5.0 in the pressures): the tolerances pinned the
 // mounts' series stiffness at 21.12 N/cm^2, the mounts alone took it to 21.0 and closed 73 % of their base's error,
-// the regulator 28 % of its, and the regulator had been named.
+// the regulator 28 % of its, and the regulator had been named. Both shares are read where each effect acts, and the
+// absorbed effect in its base form, as effect_beyond_pinned_tolerance reads them.
 void name_absorbed_larger(Diagnosis& d, const DiagnosisOptions& options) {
   if (d.combination.empty() || d.verdict != d.combination.front().name || !d.beyond_tolerance.empty()) return;
   const auto pinned = effect_beyond_pinned_tolerance(d, options);
@@ -1126,16 +1162,17 @@ void name_absorbed_larger(Diagnosis& d, const DiagnosisOptions& options) {
     return std::any_of(d.combination.begin(), d.combination.end(), [&](const EffectFit& e) { return e.name == name; });
   };
   if (!pinned || named == d.effects.end() || !member(pinned->effect->name) ||
-      !(pinned->effect->shrink_fraction > named->shrink_fraction))
+      !(pinned->shrink_fraction > named->shrink_where_acting))
     return;
   std::vector<std::string> also = {d.verdict};
   for (const std::string& e : d.also_effects)
     if (e != pinned->effect->name) also.push_back(e);
   d.reason = fmt::format(
-      "{} is the larger: the tolerances absorbed it at an edge, {}={:.4g}, which it fitted alone takes further "
-      "({:.4g}) while closing {:.0f} % of its base's held-out error, against {:.0f} % for {} alone; as fitted, {}",
-      pinned->effect->name, pinned->parameter, pinned->within, pinned->effect_value,
-      100.0 * pinned->effect->shrink_fraction, 100.0 * named->shrink_fraction, d.verdict, d.reason);
+      "{} is the larger: the tolerances absorbed it at an edge, {}={:.4g}, which it fitted alone{} takes further "
+      "({:.4g}) while closing {:.0f} % of its base's held-out error where it acts, against {:.0f} % for {} alone; as "
+      "fitted, {}",
+      pinned->effect->name, pinned->parameter, pinned->within, pinned->base_form ? " in its base form" : "",
+      pinned->effect_value, 100.0 * pinned->shrink_fraction, 100.0 * named->shrink_where_acting, d.verdict, d.reason);
   d.verdict = pinned->effect->name;
   d.also_effects = std::move(also);
 }
@@ -1294,6 +1331,7 @@ void attribute_gap(Diagnosis& d, ReplayEngine& engine, const ModelVariant& nomin
     if (options.effect_base != EffectBase::kAsPlaced && any_gap)
       bases.make_own = [&] { return own_bases_within_tolerances(d, problem, nominal, options); };
     d.effects = fit_each_effect(problem, bases, nominal_device, options);
+    measure_shares_where_acting(d.effects, problem, d.trials, bases);
     const BaseModel base = d.effects.empty() ? reference : bases.of(d.effects.front());  // the leader's
     WithoutOwnTolerances without_own;
     if (!d.effects.empty() && d.effects.front().within_tolerances) {

@@ -203,6 +203,23 @@ struct EffectFit {
   UnitSums training_after_sums;
   int evaluations = 0;
   bool extended = false;  // its extensions (ParameterSpec::extension) fitted and kept; otherwise held at the start
+  // Where extended, the base form's fit the extension replaced: what a rule that reads a parameter in the catalogue's
+  // own form reads (an exponent or a preload changes what a series stiffness means; effect_beyond_pinned_tolerance).
+  struct BaseForm {
+    std::vector<std::pair<std::string, double>> params;
+    double shrink_fraction = 0.0, shrink_where_acting = 0.0;
+    UnitSums heldout_after_sums;  // not reported
+  };
+  std::optional<BaseForm> base_form;
+  // Its share where it acts, what the pinned-tolerance rules read (diagnosis.cc, effect_beyond_pinned_tolerance and
+  // name_absorbed_larger): shrink_fraction where it acts on a trial scored (one with a gap beyond the tolerances, or
+  // any where none has); where it acts on none, the fraction it closes of its base's held-out error over the trials it
+  // acts on that differ from the nominal as placed (TrialGap::gap_as_placed). Where the tolerances absorbed it, the
+  // trials left with a gap can be ones it does not touch, and shrink_fraction is then 0 whatever it closes (the
+  // independent device's seed 56, a stiffening strap: the tensile test alone was left). Only there, since over the
+  // trials with a gap as placed the nominals' own pinned effects close more than over every trial (the relaxed wrist's
+  // damping on seed 54's nominal: 17 % against 5 %).
+  double shrink_where_acting = 0.0;
   // Fitted from the nominal within its tolerances with its own tolerance parameters at the nominal (EffectBase);
   // otherwise from the nominal as placed.
   bool within_tolerances = false;
@@ -236,6 +253,7 @@ struct TrialGap {
   // Significant and at least min_gap noise units: a gap of its own, however clean the other trials are; and so with
   // the nominal within its tolerances too, where they were fitted.
   bool gap = false;
+  bool gap_as_placed = false;          // significant and at least min_gap noise units with the nominal as placed
   bool remaining_significant = false;  // with the corrected model
   std::size_t points = 0;
   // Its held-out systematic residual (noise units) with the base the combination's leader was fitted on.

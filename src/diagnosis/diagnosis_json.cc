@@ -116,31 +116,44 @@ nlohmann::json routing_json(const Diagnosis& d) {
   return j;
 }
 
+// Named values as a JSON object.
+nlohmann::json params_json(const std::vector<std::pair<std::string, double>>& values) {
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& [name, value] : values) params[name] = value;
+  return params;
+}
+
+// One effect's fit; where extended, with the base form it replaced.
+nlohmann::json effect_json(const EffectFit& f) {
+  nlohmann::json j{{"name", f.name},
+                   {"applicable", f.applicable},
+                   {"params", params_json(f.params)},
+                   {"heldout_error_before", f.heldout_error_before},
+                   {"heldout_error_after", f.heldout_error_after},
+                   {"shrink_fraction", f.shrink_fraction},
+                   {"shrink_where_acting", f.shrink_where_acting},
+                   {"ci_low", f.ci_low},
+                   {"ci_high", f.ci_high},
+                   {"se_of_difference_to_best", f.se_of_difference_to_best},
+                   {"within_one_se_of_best", f.within_one_se_of_best},
+                   {"train_error_before", f.train_error_before},
+                   {"train_error_after", f.train_error_after},
+                   {"training_gap_after", f.training_gap_after},
+                   {"evaluations", f.evaluations},
+                   {"extended", f.extended},
+                   {"within_tolerances", f.within_tolerances},
+                   {"base_parameters", f.base_parameters},
+                   {"heldout_excess_by_trial", f.heldout_excess_by_trial}};
+  if (f.base_form)
+    j["base_form"] = {{"params", params_json(f.base_form->params)},
+                      {"shrink_fraction", f.base_form->shrink_fraction},
+                      {"shrink_where_acting", f.base_form->shrink_where_acting}};
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
-  const auto effect_json = [](const EffectFit& f) {
-    nlohmann::json params = nlohmann::json::object();
-    for (const auto& [name, value] : f.params) params[name] = value;
-    return nlohmann::json{{"name", f.name},
-                          {"applicable", f.applicable},
-                          {"params", params},
-                          {"heldout_error_before", f.heldout_error_before},
-                          {"heldout_error_after", f.heldout_error_after},
-                          {"shrink_fraction", f.shrink_fraction},
-                          {"ci_low", f.ci_low},
-                          {"ci_high", f.ci_high},
-                          {"se_of_difference_to_best", f.se_of_difference_to_best},
-                          {"within_one_se_of_best", f.within_one_se_of_best},
-                          {"train_error_before", f.train_error_before},
-                          {"train_error_after", f.train_error_after},
-                          {"training_gap_after", f.training_gap_after},
-                          {"evaluations", f.evaluations},
-                          {"extended", f.extended},
-                          {"within_tolerances", f.within_tolerances},
-                          {"base_parameters", f.base_parameters},
-                          {"heldout_excess_by_trial", f.heldout_excess_by_trial}};
-  };
   nlohmann::json j;
   j["verdict"] = d.verdict;
   j["reason"] = d.reason;

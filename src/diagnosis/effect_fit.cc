@@ -313,7 +313,8 @@ void record(EffectFit& fit, const EffectObjective& objective, const SearchedPoin
   fit.params = describe_values(fit.id, fit.values, nominal);
   fit.train_error_after = at.training_error;
   fit.heldout_error_after = objective.problem.heldout_error(after);
-  fit.shrink_fraction = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
+  // Where it acts, until measure_shares_where_acting (diagnosis.cc) reads the trials: the same.
+  fit.shrink_fraction = fit.shrink_where_acting = fraction_closed(fit.heldout_error_before, fit.heldout_error_after);
   std::tie(fit.ci_low, fit.ci_high) =
       bootstrap_interval(objective.problem, objective.before, after, options.bootstrap, seed);
   fit.heldout_after_sums = after;
@@ -379,6 +380,10 @@ bool extend_fit(const GapProblem& problem, EffectFit& fit, const BaseModel& base
   const UnitSums after = objective.heldout_at(extended.u, &training_after);
   const double se = paired_difference_se(problem, fit.heldout_after_sums, after, options.bootstrap, seed);
   if (!(problem.heldout_error(after) < fit.heldout_error_after - se)) return false;
+  fit.base_form = EffectFit::BaseForm{.params = fit.params,
+                                      .shrink_fraction = fit.shrink_fraction,
+                                      .shrink_where_acting = fit.shrink_where_acting,
+                                      .heldout_after_sums = fit.heldout_after_sums};
   record(fit, objective, extended, after, training_after, nominal, options, seed);
   fit.extended = true;
   return true;

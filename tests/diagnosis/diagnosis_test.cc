@@ -273,11 +273,12 @@ TEST(DiagnosisVerdict, ARunnerUpFittedWithTheTolerancesIsNamedWhereItFitsTheTrai
 }
 
 // The nominal within its tolerances explains every trial, but only with a tolerance pinned at an edge of its box that
-// an effect owning it, fitted alone, takes beyond that edge while closing pair_share of the held-out error: that effect
-// is named. The figures are the independent device's seed 43 (development data, dev_pinned_tolerance.json):
-// strap_stiffening, whose tolerances closed the sweep's 19.65 noise units to 0.60 with the mounts' series stiffness at
-// its lower edge (21.12 N/cm^2 of 21.12-39.22) and the mount stretch alone at 13.0 closed 69 %; the nominal, whose
-// regulator's time constant sat at its upper edge (0.072 s) while the regulator alone, at 0.036 s, closed 1 %.
+// an effect owning it, fitted alone, takes beyond that edge while closing pair_share of its base's held-out error where
+// it acts (EffectFit::shrink_where_acting): that effect is named. The figures are the independent device's seed 43
+// (development data, dev_pinned_tolerance.json): strap_stiffening, whose tolerances closed the sweep's 19.65 noise
+// units to 0.60 with the mounts' series stiffness at its lower edge (21.12 N/cm^2 of 21.12-39.22) and the mount stretch
+// alone at 13.0 closed 69 %; the nominal, whose regulator's time constant sat at its upper edge (0.072 s) while the
+// regulator alone, at 0.036 s, closed 1 %.
 TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTheEffect) {
   using ::testing::HasSubstr;
   Diagnosis d;
@@ -288,11 +289,11 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   const EffectFit lag{.id = EffectId::kRegulatorLag,
                       .name = "regulator_lag",
                       .params = {{"time_constant_s", 0.036}},
-                      .shrink_fraction = 0.01};
+                      .shrink_where_acting = 0.01};
   const EffectFit mounts{.id = EffectId::kMountStretch,
                          .name = "mount_stretch",
                          .params = {{"K1_n_per_cm2", 18.7}, {"K_series_n_per_cm2", 13.0}},
-                         .shrink_fraction = 0.69};
+                         .shrink_where_acting = 0.69};
   d.effects = {mounts, lag};
   d.combination = {mounts};
   d.trials.push_back({.experiment = "torque_sweep/trials",
@@ -317,25 +318,35 @@ TEST(DiagnosisVerdict, ATolerancePinnedAtItsEdgeThatItsEffectTakesFurtherNamesTh
   d.tolerance.params.front().second = 21.12;
   d.effects.front().params.back().second = 13.0;
   // Closing less than pair_share (0.2): the relaxed wrist on the nominals of seeds 41 and 42 closed 0 and 5 %.
-  d.effects.front().shrink_fraction = 0.15;
+  d.effects.front().shrink_where_acting = 0.15;
   EXPECT_EQ(verdict(), "none") << d.reason;
   // Not the combination's leader, closing pair_share or more: named all the same (calibration seed 1005's stiffening
   // strap, which the fPAM led with 75 %, the mounts alone past the edge at 12.6 N/cm^2 closing 36 %).
-  d.effects.front().shrink_fraction = 0.36;
+  d.effects.front().shrink_where_acting = 0.36;
   d.combination = {lag};
   EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
   d.combination = {mounts};
-  d.effects.front().shrink_fraction = 0.69;
-  // Fitted with its extensions, whose exponent or preload change what the series stiffness means.
+  d.effects.front().shrink_where_acting = 0.69;
+  // Fitted with its extensions, whose exponent or preload change what the series stiffness means: the base form's fit
+  // they replaced is read (seed 56's sliding glove), and without one, none.
   d.effects.front().extended = true;
   EXPECT_EQ(verdict(), "none") << d.reason;
+  d.effects.front().base_form =
+      EffectFit::BaseForm{.params = {{"K_series_n_per_cm2", 24.3}}, .shrink_where_acting = 0.5};
+  EXPECT_EQ(verdict(), "none") << d.reason;  // the base form within the box
+  d.effects.front().base_form->params.front().second = 14.0;
+  EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
+  EXPECT_THAT(d.reason, HasSubstr("mount_stretch fitted alone in its base form takes further (14) while closing 50 %"));
+  d.effects.front().base_form->shrink_where_acting = 0.15;  // the base form closing less than pair_share
+  EXPECT_EQ(verdict(), "none") << d.reason;
   d.effects.front().extended = false;
+  d.effects.front().base_form.reset();
   // Not at an edge.
   d.tolerance.at_bound = {"regulator_lag.time_constant_s"};
   EXPECT_EQ(verdict(), "none") << d.reason;
   // A pinned regulator: named only where its fit alone takes the time constant past the upper edge (and closes
   // pair_share).
-  d.effects.back().shrink_fraction = 0.55;
+  d.effects.back().shrink_where_acting = 0.55;
   EXPECT_EQ(verdict(), "none") << d.reason;  // 0.036 s: the other way
   d.effects.back().params.front().second = 0.09;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
@@ -365,12 +376,12 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
   const EffectFit lag{.id = EffectId::kRegulatorLag,
                       .name = "regulator_lag",
                       .params = {{"time_constant_s", 0.122}},
-                      .shrink_fraction = 0.28};
-  const EffectFit wrist{.id = EffectId::kPassiveWrist, .name = "passive_wrist", .shrink_fraction = 0.27};
+                      .shrink_where_acting = 0.28};
+  const EffectFit wrist{.id = EffectId::kPassiveWrist, .name = "passive_wrist", .shrink_where_acting = 0.27};
   const EffectFit mounts{.id = EffectId::kMountStretch,
                          .name = "mount_stretch",
                          .params = {{"K_series_n_per_cm2", 21.0}},
-                         .shrink_fraction = 0.73};
+                         .shrink_where_acting = 0.73};
   d.effects = {lag, wrist, mounts};
   d.combination = {lag, wrist, mounts};
   d.leading_effect = "regulator_lag";
@@ -390,17 +401,18 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
   };
   EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
   EXPECT_EQ(d.also_effects, std::vector<std::string>{"regulator_lag"});
-  EXPECT_THAT(d.reason, HasSubstr("closing 73 % of its base's held-out error, against 28 % for regulator_lag"));
+  EXPECT_THAT(d.reason, HasSubstr("closing 73 % of its base's held-out error where it acts, against 28 % for "
+                                  "regulator_lag"));
   // Closing less of its base than the leader does of its own: the leader stays.
-  d.effects.back().shrink_fraction = 0.25;
+  d.effects.back().shrink_where_acting = 0.25;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
   EXPECT_TRUE(d.also_effects.empty());
   // More than the leader but less than pair_share (0.2): as little as the nominals' own pinned effects close.
-  d.effects.front().shrink_fraction = 0.10;
-  d.effects.back().shrink_fraction = 0.15;
+  d.effects.front().shrink_where_acting = 0.10;
+  d.effects.back().shrink_where_acting = 0.15;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
-  d.effects.front().shrink_fraction = 0.28;
-  d.effects.back().shrink_fraction = 0.73;
+  d.effects.front().shrink_where_acting = 0.28;
+  d.effects.back().shrink_where_acting = 0.73;
   // Not in the combination, so not in the corrected model: the leader stays.
   d.combination = {lag, wrist};
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
@@ -409,13 +421,48 @@ TEST(DiagnosisVerdict, AnEffectTheTolerancesAbsorbedIsNamedBeforeALeaderThatClos
   d.explained_fraction = 0.3;  // below explained_fraction alone; the pair closes 87 %
   EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
   EXPECT_EQ(d.also_effects, std::vector<std::string>{"regulator_lag"});
-  // Within its box, or fitted with its extensions: no evidence the tolerances absorbed it.
+  // Within its box, or fitted with its extensions and its base form within it: no evidence the tolerances absorbed it.
   d.effects.back().params.front().second = 22.0;
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
   EXPECT_EQ(d.also_effects, std::vector<std::string>{"mount_stretch"});
   d.effects.back().params.front().second = 21.0;
   d.effects.back().extended = true;
+  d.effects.back().base_form =
+      EffectFit::BaseForm{.params = {{"K_series_n_per_cm2", 22.0}}, .shrink_where_acting = 0.6};
   EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+  // Its base form beyond the edge: the base form's share is weighed against the leader's.
+  d.effects.back().base_form->params.front().second = 20.5;
+  EXPECT_EQ(verdict(), "mount_stretch") << d.reason;
+  EXPECT_THAT(d.reason, HasSubstr("fitted alone in its base form takes further (20.5) while closing 60 % of its base's "
+                                  "held-out error where it acts, against 28 %"));
+  d.effects.back().base_form->shrink_where_acting = 0.25;
+  EXPECT_EQ(verdict(), "regulator_lag") << d.reason;
+}
+
+// An extended fit reports the base form it replaced, which the pinned-tolerance rule reads, and each fit its share
+// where it acts.
+TEST(DiagnosisJson, AnExtendedFitReportsTheBaseFormItReplaced) {
+  Diagnosis d;
+  EffectFit mounts{.id = EffectId::kMountStretch,
+                   .name = "mount_stretch",
+                   .params = {{"K_series_n_per_cm2", 12.96}, {"exponent", 2.05}},
+                   .shrink_fraction = 0.56,
+                   .extended = true,
+                   .base_form = EffectFit::BaseForm{.params = {{"K_series_n_per_cm2", 13.31}},
+                                                    .shrink_fraction = 0.55,
+                                                    .shrink_where_acting = 0.7},
+                   .shrink_where_acting = 0.71};
+  d.effects = {mounts};
+  const nlohmann::json j = to_json(d);
+  const auto& e = j["effects"].at(0);
+  EXPECT_DOUBLE_EQ(e["params"]["exponent"].get<double>(), 2.05);
+  EXPECT_DOUBLE_EQ(e["shrink_where_acting"].get<double>(), 0.71);
+  EXPECT_DOUBLE_EQ(e["base_form"]["params"]["K_series_n_per_cm2"].get<double>(), 13.31);
+  EXPECT_DOUBLE_EQ(e["base_form"]["shrink_fraction"].get<double>(), 0.55);
+  EXPECT_DOUBLE_EQ(e["base_form"]["shrink_where_acting"].get<double>(), 0.7);
+  d.effects.front().extended = false;
+  d.effects.front().base_form.reset();
+  EXPECT_FALSE(to_json(d)["effects"].at(0).contains("base_form"));
 }
 
 // Where a small gap is left within the tolerances, below contradiction_gap, and no effect explains explained_fraction
@@ -430,7 +477,7 @@ TEST(DiagnosisVerdict, ASmallGapLeftWithinTheTolerancesNamesTheEffectOfAPinnedTo
   const EffectFit mounts{.id = EffectId::kMountStretch,
                          .name = "mount_stretch",
                          .params = {{"K_series_n_per_cm2", 20.99}},
-                         .shrink_fraction = 0.84};
+                         .shrink_where_acting = 0.84};
   d.effects = {mounts};
   d.combination = {mounts};
   d.leading_effect = "mount_stretch";
@@ -1415,9 +1462,16 @@ TEST_F(DiagnosisTest, ExtensionsAreSearchedWhereTheBaseFormClosesNothing) {
   fit.shrink_fraction = 0.0;
   fit.train_error_before = fit.train_error_after;
   const double base_form_heldout = fit.heldout_error_after;
+  const auto base_form_params = fit.params;
   ASSERT_TRUE(extend_fit(problem, fit, base, paper_device(), options, 7));
   EXPECT_LT(fit.heldout_error_after, base_form_heldout);
   EXPECT_TRUE(fit.extended);
+  // The base form it replaced is kept, for the rules that read a parameter in the catalogue's form.
+  ASSERT_TRUE(fit.base_form.has_value());
+  EXPECT_EQ(fit.base_form->params, base_form_params);
+  EXPECT_EQ(fit.base_form->shrink_fraction, 0.0);
+  EXPECT_DOUBLE_EQ(problem.heldout_error(fit.base_form->heldout_after_sums), base_form_heldout);
+  EXPECT_NE(fit.params, base_form_params);
   EXPECT_GT(fit.shrink_fraction, 0.8);
   EXPECT_NEAR(param(fit, "asymmetry_fe"), -0.5, 0.1);
   EXPECT_NEAR(param(fit, "asymmetry_ur"), 0.4, 0.1);
