@@ -421,20 +421,17 @@ std::vector<EffectFit> fit_each_effect(const GapProblem& problem, EffectBases& b
   return fits;
 }
 
-// Each fit's share where it acts (EffectFit::shrink_where_acting), and its base form's where an extension replaced it.
+// Each fit's share where it acts (EffectFit::shrink_where_acting), and its base form's where an extension replaced it:
+// where it acts on no trial scored, over its trials with a gap as placed; otherwise shrink_fraction, as fitted.
 void measure_shares_where_acting(std::vector<EffectFit>& fits, const GapProblem& problem,
                                  const std::vector<TrialGap>& trials, const EffectBases& bases) {
   for (EffectFit& f : fits) {
     if (!f.applicable) continue;
-    f.shrink_where_acting = f.shrink_fraction;
-    if (f.base_form) f.base_form->shrink_where_acting = f.base_form->shrink_fraction;
     const EffectSpec& spec = effect_spec(f.id);
-    std::vector<bool> differs(trials.size(), false);
     bool acts_on_scored = false;
-    for (std::size_t t = 0; t < trials.size(); ++t) {
+    for (std::size_t t = 0; t < trials.size(); ++t)
       acts_on_scored = acts_on_scored || (problem.scored(t) && acts_on(spec, problem.trials()[t]));
-      differs[t] = trials[t].gap_as_placed && acts_on(spec, problem.trials()[t]);
-    }
+    const std::vector<bool> differs = gap_trials_acted_on(problem, trials, spec, /*as_placed=*/true);
     if (acts_on_scored || std::none_of(differs.begin(), differs.end(), [](bool b) { return b; })) continue;
     const double before = problem.heldout_error(problem.heldout_sums(bases.of(f).full), nullptr, &differs);
     f.shrink_where_acting = fraction_closed(before, problem.heldout_error(f.heldout_after_sums, nullptr, &differs));

@@ -244,10 +244,10 @@ std::vector<EffectId> requested_effects(const DiagnosisOptions& options) {
 }
 
 std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vector<TrialGap>& trials,
-                                      const EffectSpec& spec) {
+                                      const EffectSpec& spec, bool as_placed) {
   std::vector<bool> acted_on;
   for (std::size_t t = 0; t < trials.size(); ++t)
-    acted_on.push_back(trials[t].gap && acts_on(spec, problem.trials()[t]));
+    acted_on.push_back((as_placed ? trials[t].gap_as_placed : trials[t].gap) && acts_on(spec, problem.trials()[t]));
   return acted_on;
 }
 

@@ -23,9 +23,10 @@ struct BaseModel {
 // The effects the options ask for: their list, or the whole catalogue when it is empty.
 std::vector<EffectId> requested_effects(const DiagnosisOptions& options);
 
-// Which trials have a gap and are changed by `spec` (acts_on in replay.h; `trials` in the order of problem's).
+// Which trials have a gap (TrialGap::gap; with as_placed, TrialGap::gap_as_placed) and are changed by `spec`
+// (acts_on in replay.h; `trials` in the order of problem's).
 std::vector<bool> gap_trials_acted_on(const GapProblem& problem, const std::vector<TrialGap>& trials,
-                                      const EffectSpec& spec);
+                                      const EffectSpec& spec, bool as_placed = false);
 
 // The leader of a round of fits on one base model (an index into `fits`; fits.size() when none is applicable): with
 // `one_se_rule`, of the applicable fits whose held-out error the data do not tell from the lowest one's (within one
